@@ -1,0 +1,1 @@
+"""The ``robocop-mission`` command line: a thin layer over the Python API."""

@@ -1,0 +1,98 @@
+"""``robocop-mission world FILE.yaml``: print a composed world (bodies, joints, groups)."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+
+from ..diagnostics import DiagnosticError, render_all
+from ..world import World, load_world
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "world", help="print a composed world: bodies, joints, joint groups, processors",
+        description="Load a world file (a path, or a name along the robots path such as "
+                    "bazar/sophia.yaml) and print its composed tree.")
+    parser.add_argument("file", help="world YAML file")
+    parser.add_argument("--format", choices=("text", "json"), default="text")
+    parser.set_defaults(command=run)
+
+
+def run(args) -> int:
+    """Exit 0 when the world loads, 1 when it has errors."""
+    try:
+        world = load_world(args.file)
+    except DiagnosticError as error:
+        print(render_all(error.diagnostics), file=sys.stderr)
+        return 1
+    if args.format == "json":
+        print(json.dumps(describe(world), indent=2))
+    else:
+        print(render_text(world))
+    return 0
+
+
+def _finite(values) -> list:
+    return [v if math.isfinite(v) else None for v in map(float, values)]
+
+
+def describe(world: World) -> dict:
+    """The world as plain data (limits in SI, ``None`` where unlimited)."""
+    return {
+        "path": str(world.path),
+        "bodies": [{"name": b, "parent": world.body(b).parent, "joint": world.body(b).joint}
+                   for b in world.body_names()],
+        "joints": [{"name": j.name, "type": j.type, "parent": j.parent, "child": j.child,
+                    "dofs": j.dofs, "lower": _finite(j.lower), "upper": _finite(j.upper),
+                    "max_velocity": _finite(j.max_velocity), "mimic": j.mimic}
+                   for j in map(world.joint, world.joint_names())],
+        "joint_groups": [{"name": g, "dofs": world.joint_group(g).dofs,
+                          "joints": list(world.joint_group(g).joints)}
+                         for g in world.group_names()],
+        "processors": [{"name": p.name, "type": p.type, "options": p.options}
+                       for p in world.processors.values()],
+    }
+
+
+def _limits(joint) -> str:
+    if not joint.dofs:
+        return f"mimics {joint.mimic}" if joint.mimic else ""
+    unit, scale, digits = (("m", 1.0, 3) if joint.type == "prismatic"
+                           else ("deg", 180 / math.pi, 1))
+    low, high, speed = joint.lower[0], joint.upper[0], joint.max_velocity[0]
+    span = (f"[{low * scale:.{digits}f}, {high * scale:.{digits}f}] {unit}"
+            if math.isfinite(low) and math.isfinite(high) else "unbounded")
+    rate = f", {speed * scale:.{digits}f} {unit}/s" if math.isfinite(speed) else ""
+    return span + rate
+
+
+def render_text(world: World) -> str:
+    """A readable listing: the body tree, the moving joints, groups and processors."""
+    children: dict = {}
+    for name in world.body_names():
+        children.setdefault(world.body(name).parent, []).append(name)
+    lines = [f"world {world.path}", "", f"bodies ({len(world.body_names())}):"]
+
+    def walk(name: str, depth: int) -> None:
+        joint = world.body(name).joint
+        kind = f"  ({world.joint(joint).type} {joint})" if joint else ""
+        lines.append(f"  {'  ' * depth}{name}{kind}")
+        for child in children.get(name, []):
+            walk(child, depth + 1)
+
+    walk("world", 0)
+    moving = [world.joint(j) for j in world.joint_names() if world.joint(j).type != "fixed"]
+    lines += ["", f"joints ({len(moving)} moving, {len(world.joint_names())} in all):"]
+    width = max((len(j.name) for j in moving), default=0)
+    lines += [f"  {j.name:<{width}}  {j.type:<10} {_limits(j)}" for j in moving]
+    lines += ["", "joint groups:"]
+    for name in world.group_names():
+        group = world.joint_group(name)
+        lines.append(f"  {name}: {group.dofs} dofs ({', '.join(group.joints)})")
+    lines += ["", "processors:"]
+    for processor in world.processors.values():
+        options = ", ".join(f"{k}: {v}" for k, v in processor.options.items())
+        lines.append(f"  {processor.name}: {processor.type} {{{options}}}")
+    return "\n".join(lines)

@@ -1,0 +1,154 @@
+"""Diagnostics: located messages about a mission or world file, and their renderings.
+
+Every user-facing error of the tool is a :class:`Diagnostic`: a code, a message, the
+file, a 1-based line/column span, the source line and an optional hint. A check pass
+collects all of them; :class:`DiagnosticError` carries them out of an API call.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Iterable, Sequence
+
+ERROR = "error"
+WARNING = "warning"
+
+
+@dataclass(frozen=True)
+class Span:
+    """A region of a source file: 1-based lines and columns, end column exclusive."""
+
+    line: int
+    column: int
+    end_line: int
+    end_column: int
+
+    @classmethod
+    def point(cls, line: int, column: int = 1, width: int = 1) -> "Span":
+        return cls(line, column, line, column + max(width, 1))
+
+
+@dataclass(frozen=True)
+class SourceFile:
+    """A file's path and text, for locating and quoting diagnostics."""
+
+    path: str
+    text: str
+
+    @classmethod
+    def read(cls, path: str | Path) -> "SourceFile":
+        return cls(str(path), Path(path).read_text(encoding="utf-8"))
+
+    def line(self, number: int) -> str:
+        lines = self.text.splitlines()
+        return lines[number - 1] if 0 < number <= len(lines) else ""
+
+    def error(self, code: str, message: str, span: Span | None, hint: str | None = None,
+              severity: str = ERROR) -> "Diagnostic":
+        """Build a diagnostic located in this file."""
+        source_line = self.line(span.line) if span else ""
+        return Diagnostic(code, message, self.path, span, severity, hint, source_line)
+
+    def warning(self, code: str, message: str, span: Span | None,
+                hint: str | None = None) -> "Diagnostic":
+        return self.error(code, message, span, hint, WARNING)
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One located message. ``severity`` is ``"error"`` or ``"warning"``."""
+
+    code: str
+    message: str
+    file: str
+    span: Span | None
+    severity: str = ERROR
+    hint: str | None = None
+    source_line: str = ""
+
+    @property
+    def is_error(self) -> bool:
+        return self.severity == ERROR
+
+    def location(self) -> str:
+        if self.span is None:
+            return self.file
+        return f"{self.file}:{self.span.line}:{self.span.column}"
+
+    def headline(self) -> str:
+        return f"{self.location()}: {self.severity}[{self.code}]: {self.message}"
+
+    def render(self) -> str:
+        """gcc-style text: headline, source line, caret under the span, hint."""
+        lines = [self.headline()]
+        if self.span is not None and self.source_line:
+            number = str(self.span.line)
+            gutter = " " * len(number)
+            text = self.source_line.expandtabs(1)
+            start = self.span.column - 1
+            if self.span.end_line == self.span.line:
+                end = max(self.span.end_column - 1, start + 1)
+            else:
+                end = max(len(text.rstrip()), start + 1)
+            lines.append(f" {number} | {text}")
+            lines.append(f" {gutter} | {' ' * start}{'^' * (end - start)}")
+        if self.hint:
+            lines.append(f"   = hint: {self.hint}")
+        return "\n".join(lines)
+
+    def to_json(self) -> dict:
+        data = asdict(self)
+        data["span"] = asdict(self.span) if self.span else None
+        return data
+
+    def to_github(self) -> str:
+        """A GitHub Actions workflow command that annotates the line in a pull request."""
+        kind = "error" if self.is_error else "warning"
+        props = [f"file={self.file}"]
+        if self.span is not None:
+            props += [f"line={self.span.line}", f"col={self.span.column}",
+                      f"endLine={self.span.end_line}", f"endColumn={self.span.end_column}"]
+        props.append(f"title={self.code}")
+        message = self.message + (f" (hint: {self.hint})" if self.hint else "")
+        escaped = message.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+        return f"::{kind} {','.join(props)}::{escaped}"
+
+
+class RobocopError(Exception):
+    """Root of the package's exceptions."""
+
+
+class DiagnosticError(RobocopError):
+    """Raised by API calls that found errors in user input; carries every diagnostic."""
+
+    def __init__(self, diagnostics: Sequence[Diagnostic]):
+        self.diagnostics = list(diagnostics)
+        super().__init__("\n".join(d.render() for d in self.diagnostics))
+
+
+def did_you_mean(name: str, candidates: Iterable[str]) -> str | None:
+    """A hint naming the closest candidates to ``name``, or ``None``."""
+    close = difflib.get_close_matches(name, sorted(set(candidates)), n=3, cutoff=0.6)
+    if not close:
+        return None
+    if len(close) == 1:
+        return f"did you mean '{close[0]}'?"
+    return "did you mean " + ", ".join(f"'{c}'" for c in close[:-1]) + f" or '{close[-1]}'?"
+
+
+def render_all(diagnostics: Sequence[Diagnostic], fmt: str = "text") -> str:
+    """Render diagnostics as ``text``, ``json`` or ``github``."""
+    if fmt == "json":
+        return json.dumps([d.to_json() for d in diagnostics], indent=2)
+    if fmt == "github":
+        return "\n".join(d.to_github() for d in diagnostics)
+    return "\n\n".join(d.render() for d in diagnostics)
+
+
+def sort_key(diagnostic: Diagnostic) -> tuple:
+    span = diagnostic.span
+    return (diagnostic.file, span.line if span else 0, span.column if span else 0,
+            diagnostic.code)

@@ -1,0 +1,196 @@
+"""Assembling a world: every model's URDF renamed and merged under the ``world`` link,
+the attaching joints added, joint groups and initial postures resolved."""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..diagnostics import DiagnosticError, did_you_mean
+from .description import ROOT, JointSpec, ModelEntry, WorldDescription
+from .urdf import DOFS, JointInfo, read_urdf
+
+
+@dataclass
+class BodyInfo:
+    """A body (URDF link) and the joint that carries it (``None`` for ``world``)."""
+
+    name: str
+    parent: str | None
+    joint: str | None
+    where: str
+
+
+@dataclass
+class GroupInfo:
+    """A joint group with its members resolved to joints, in order, without repeats."""
+
+    name: str
+    joints: tuple
+    members: tuple
+
+
+@dataclass
+class Assembly:
+    urdf: str
+    bodies: dict = field(default_factory=dict)
+    joints: dict = field(default_factory=dict)
+    groups: dict = field(default_factory=dict)
+    initial: dict = field(default_factory=dict)
+
+
+def assemble(description: WorldDescription) -> Assembly:
+    """Merge the described models into one URDF and name tables.
+
+    Raises:
+        DiagnosticError: with every problem found.
+    """
+    diagnostics: list = []
+    robot = ET.Element("robot", name="world")
+    ET.SubElement(robot, "link", name=ROOT)
+    result = Assembly(urdf="")
+    result.bodies[ROOT] = BodyInfo(ROOT, None, None, str(description.path))
+    attachments = []
+    for index, entry in enumerate(description.models):
+        urdf = read_urdf(entry.urdf, entry.prefix, f"m{index}_", diagnostics)
+        if urdf is None:
+            continue
+        where = f"{entry.at.source.path}:{entry.at.span.line}"
+        duplicate = _first_duplicate(urdf, result)
+        if duplicate:
+            kind, name, previous = duplicate
+            diagnostics.append(entry.at.error(
+                "E006", f"{kind} '{name}' of {urdf.path.name} is already defined ({previous})",
+                "give this model a 'namespace:' so that its names are prefixed"))
+            continue
+        for joint in urdf.joints:
+            result.joints[joint.name] = joint
+            result.bodies[joint.child] = BodyInfo(joint.child, joint.parent, joint.name,
+                                                  joint.where)
+        for link in urdf.links:
+            if link not in result.bodies:
+                result.bodies[link] = BodyInfo(link, None, None, f"{urdf.path}")
+        robot.extend(e for e in urdf.elements
+                     if not (e.tag == "link" and e.get("name") == ROOT))
+        if urdf.root != ROOT:
+            attachments.append((entry, urdf.root, where))
+    for entry, root, where in attachments:
+        _attach(robot, entry, root, where, result, diagnostics)
+    result.groups = _resolve_groups(description, result, diagnostics)
+    result.initial = _resolve_initial(description, result, diagnostics)
+    if diagnostics:
+        raise DiagnosticError(diagnostics)
+    result.urdf = ET.tostring(robot, encoding="unicode")
+    return result
+
+
+def _first_duplicate(urdf, result: Assembly):
+    for link in urdf.links:
+        if link in result.bodies and link != ROOT:
+            return "body", link, result.bodies[link].where
+    for joint in urdf.joints:
+        if joint.name in result.joints:
+            return "joint", joint.name, result.joints[joint.name].where
+    return None
+
+
+def _attach(robot: ET.Element, entry: ModelEntry, root: str, where: str,
+            result: Assembly, diagnostics: list) -> None:
+    spec: JointSpec = entry.joint
+    if spec.parent not in result.bodies:
+        diagnostics.append(spec.parent_at.error(
+            "E005", f"unknown parent body '{spec.parent}'",
+            did_you_mean(spec.parent, result.bodies) or "bodies are the links of the models"))
+        return
+    name = spec.name or f"{spec.parent}_to_{root}"
+    if name in result.joints:
+        diagnostics.append(entry.at.error(
+            "E006", f"joint '{name}' is already defined ({result.joints[name].where})",
+            "give the joint another 'name:'"))
+        return
+    if spec.type in ("revolute", "prismatic") and not {"lower", "upper"} <= set(spec.limits):
+        diagnostics.append(spec.parent_at.error(
+            "E009", f"a {spec.type} joint needs limits: {{lower: .., upper: .., velocity: ..}}"))
+        return
+    joint = ET.SubElement(robot, "joint", name=name, type=spec.type)
+    ET.SubElement(joint, "parent", link=spec.parent)
+    ET.SubElement(joint, "child", link=root)
+    ET.SubElement(joint, "origin", xyz=_text(spec.xyz), rpy=_text(spec.rpy))
+    if spec.type in ("revolute", "prismatic", "continuous", "planar"):
+        ET.SubElement(joint, "axis", xyz=_text(spec.axis))
+    if spec.limits or spec.type in ("revolute", "prismatic"):
+        limits = {"lower": 0.0, "upper": 0.0, "velocity": math.inf, "effort": 0.0}
+        limits.update(spec.limits)
+        ET.SubElement(joint, "limit", **{k: repr(float(v)) for k, v in limits.items()})
+    dofs = DOFS[spec.type]
+    velocity = float(spec.limits.get("velocity", math.inf))
+    bounded = spec.type in ("revolute", "prismatic")
+    info = JointInfo(name, spec.type, spec.parent, root, dofs,
+                     np.full(dofs, spec.limits["lower"] if bounded else -math.inf),
+                     np.full(dofs, spec.limits["upper"] if bounded else math.inf),
+                     np.full(dofs, velocity), None, where)
+    result.joints[name] = info
+    result.bodies[root] = BodyInfo(root, spec.parent, name, where)
+
+
+def _text(values) -> str:
+    return " ".join(repr(float(v)) for v in values)
+
+
+def _resolve_groups(description: WorldDescription, result: Assembly, diagnostics: list):
+    resolved: dict = {}
+    names = set(description.groups) | set(result.joints)
+
+    def resolve(name: str, stack: tuple) -> tuple:
+        if name in resolved:
+            return resolved[name].joints
+        entry = description.groups[name]
+        joints: list = []
+        for member, at in zip(entry.members, entry.member_spans):
+            if member in stack:
+                diagnostics.append(at.error(
+                    "E010", f"joint group '{member}' contains itself: "
+                    + " -> ".join(stack[stack.index(member):] + (member,))))
+            elif member in description.groups:
+                joints.extend(resolve(member, stack + (member,)))
+            elif member in result.joints:
+                joints.append(member)
+            else:
+                diagnostics.append(at.error(
+                    "E008", f"joint group '{name}' names unknown joint or group '{member}'",
+                    did_you_mean(member, names)))
+        resolved[name] = GroupInfo(name, tuple(dict.fromkeys(joints)), tuple(entry.members))
+        return resolved[name].joints
+
+    for name in description.groups:
+        resolve(name, (name,))
+    return resolved
+
+
+def _resolve_initial(description: WorldDescription, result: Assembly, diagnostics: list):
+    initial: dict = {}
+    for name, values, at in description.initial:
+        if name in result.groups:
+            joints = result.groups[name].joints
+        elif name in result.joints:
+            joints = (name,)
+        else:
+            diagnostics.append(at.error(
+                "E008", f"initial posture for unknown joint or group '{name}'",
+                did_you_mean(name, set(result.groups) | set(result.joints))))
+            continue
+        dofs = sum(result.joints[j].dofs for j in joints)
+        if len(values) != dofs:
+            diagnostics.append(at.error(
+                "E009", f"initial posture of '{name}' has {len(values)} values, "
+                f"the group has {dofs} dofs"))
+            continue
+        offset = 0
+        for joint in joints:
+            count = result.joints[joint].dofs
+            initial[joint] = np.array(values[offset:offset + count])
+            offset += count
+    return initial

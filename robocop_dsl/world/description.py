@@ -1,0 +1,312 @@
+"""World files: ``models:`` with includes and namespaces, ``joint_groups:``, ``initial:``,
+``processors:``, flattened into one :class:`WorldDescription` with every name namespaced.
+
+Nothing here reads a URDF or touches pinocchio; :mod:`.assembly` does that.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, Span, did_you_mean
+from . import paths
+from .yaml_source import YamlList, YamlMap, load_yaml
+
+ROOT = "world"
+JOINT_TYPES = ("fixed", "revolute", "continuous", "prismatic", "floating", "planar")
+_DURATION = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(us|ms|s)\s*$")
+_SECONDS = {"us": 1e-6, "ms": 1e-3, "s": 1.0}
+_MODEL_KEYS = {"include", "path", "namespace", "joint"}
+_JOINT_KEYS = {"parent", "type", "axis", "position", "limits", "name"}
+_LIMIT_KEYS = {"lower", "upper", "velocity", "effort"}
+_TOP_KEYS = {"models", "joint_groups", "initial", "processors"}
+
+
+@dataclass(frozen=True)
+class Located:
+    """Where a piece of a world description was written."""
+
+    source: SourceFile
+    span: Span
+
+    def error(self, code: str, message: str, hint: str | None = None) -> Diagnostic:
+        return self.source.error(code, message, self.span, hint)
+
+
+@dataclass
+class JointSpec:
+    """The joint that attaches a model's root link to its parent body (SI units)."""
+
+    parent: str = ROOT
+    type: str = "fixed"
+    axis: tuple = (0.0, 0.0, 1.0)
+    xyz: tuple = (0.0, 0.0, 0.0)
+    rpy: tuple = (0.0, 0.0, 0.0)
+    limits: dict = field(default_factory=dict)
+    name: str | None = None
+    parent_at: Located | None = None
+
+
+@dataclass
+class ModelEntry:
+    """One ``path:`` model: a URDF to add with a name prefix and a joint."""
+
+    urdf: Path
+    prefix: str
+    joint: JointSpec
+    at: Located
+
+
+@dataclass
+class GroupEntry:
+    name: str
+    members: list
+    member_spans: list
+    at: Located
+
+
+@dataclass
+class ProcessorEntry:
+    """A ``processors:`` entry; duration strings in options are converted to seconds."""
+
+    name: str
+    type: str
+    options: dict
+    at: Located
+
+
+@dataclass
+class WorldDescription:
+    path: Path
+    models: list = field(default_factory=list)
+    groups: dict = field(default_factory=dict)
+    initial: list = field(default_factory=list)
+    processors: dict = field(default_factory=dict)
+    diagnostics: list = field(default_factory=list)
+
+
+def prefixed(prefix: str, name: str) -> str:
+    """``name`` in namespace ``prefix``; the world root keeps its name."""
+    if not prefix or name == ROOT:
+        return name
+    return f"{prefix}_{name}"
+
+
+def to_seconds(value):
+    """``"5ms"`` -> 0.005; any other value is returned unchanged."""
+    if isinstance(value, str):
+        match = _DURATION.match(value)
+        if match:
+            return float(match.group(1)) * _SECONDS[match.group(2)]
+    return value
+
+
+def read_description(path: Path) -> WorldDescription:
+    """Read a world file and its includes.
+
+    Raises:
+        DiagnosticError: with every problem found, each located in its file.
+    """
+    description = WorldDescription(path=Path(path).resolve())
+    _Reader(description).read(description.path, "", ())
+    if description.diagnostics:
+        raise DiagnosticError(description.diagnostics)
+    return description
+
+
+class _Reader:
+    def __init__(self, description: WorldDescription):
+        self.out = description
+
+    def read(self, path: Path, prefix: str, stack: tuple, top: bool = True) -> None:
+        try:
+            source = SourceFile.read(path)
+            data = load_yaml(source)
+        except DiagnosticError as error:
+            self.out.diagnostics.extend(error.diagnostics)
+            return
+        except OSError as error:
+            self.out.diagnostics.append(Diagnostic("E002", f"cannot read world file: {error}",
+                                                   str(path), None))
+            return
+        for key in data:
+            if key not in _TOP_KEYS:
+                self._unknown_key(source, data, key, _TOP_KEYS)
+        stack = stack + (path,)
+        self._models(source, data.get("models"), data, prefix, stack)
+        self._groups(source, data.get("joint_groups"), data, prefix)
+        self._initial(source, data.get("initial"), data, prefix)
+        self._processors(source, data.get("processors"), data, top)
+
+    def _unknown_key(self, source, mapping: YamlMap, key, allowed) -> None:
+        self.out.diagnostics.append(source.error(
+            "E009", f"unknown key '{key}'", mapping.span(key),
+            did_you_mean(str(key), allowed) or "expected one of: " + ", ".join(sorted(allowed))))
+
+    def _expect(self, source, value, kind, parent: YamlMap, key) -> bool:
+        if isinstance(value, kind):
+            return True
+        name = "a list" if kind is YamlList else "a mapping"
+        self.out.diagnostics.append(source.error("E009", f"'{key}' must be {name}",
+                                                 parent.span(key)))
+        return False
+
+    def _models(self, source, models, data, prefix, stack) -> None:
+        if models is None:
+            return
+        if not self._expect(source, models, YamlList, data, "models"):
+            return
+        for index, entry in enumerate(models):
+            at = Located(source, models.span(index))
+            if not isinstance(entry, YamlMap):
+                self.out.diagnostics.append(at.error(
+                    "E009", "a model must be a mapping with 'include:' or 'path:'"))
+                continue
+            for key in entry:
+                if key not in _MODEL_KEYS:
+                    self._unknown_key(source, entry, key, _MODEL_KEYS)
+            namespace = entry.get("namespace")
+            inner = prefixed(prefix, str(namespace)) if namespace else prefix
+            if ("include" in entry) == ("path" in entry):
+                self.out.diagnostics.append(at.error(
+                    "E009", "a model needs exactly one of 'include:' and 'path:'"))
+            elif "include" in entry:
+                self._include(source, entry, inner, stack)
+            else:
+                self._model(source, entry, prefix, inner)
+
+    def _include(self, source, entry: YamlMap, inner: str, stack) -> None:
+        name = str(entry["include"])
+        at = Located(source, entry.span("include"))
+        target = paths.resolve(name, Path(source.path).parent)
+        if target is None:
+            self.out.diagnostics.append(at.error(
+                "E002", f"cannot find included world file '{name}'",
+                _looked_in(Path(source.path).parent)))
+            return
+        if target in stack:
+            chain = " -> ".join(p.name for p in stack[stack.index(target):] + (target,))
+            self.out.diagnostics.append(at.error(
+                "E007", f"include cycle: {chain}", "remove one of the includes in the cycle"))
+            return
+        self.read(target, inner, stack, top=False)
+
+    def _model(self, source, entry: YamlMap, outer: str, inner: str) -> None:
+        name = str(entry["path"])
+        at = Located(source, entry.span("path"))
+        urdf = paths.resolve(name, Path(source.path).parent)
+        if urdf is None:
+            self.out.diagnostics.append(at.error(
+                "E003", f"cannot find URDF '{name}'", _looked_in(Path(source.path).parent)))
+            return
+        joint = self._joint(source, entry.get("joint"), entry, outer)
+        self.out.models.append(ModelEntry(urdf, inner, joint, at))
+
+    def _joint(self, source, data, entry: YamlMap, outer: str) -> JointSpec:
+        spec = JointSpec(parent_at=Located(source, entry.span("path")))
+        if data is None or not self._expect(source, data, YamlMap, entry, "joint"):
+            return spec
+        for key in data:
+            if key not in _JOINT_KEYS:
+                self._unknown_key(source, data, key, _JOINT_KEYS)
+        if "parent" in data:
+            spec.parent = prefixed(outer, str(data["parent"]))
+            spec.parent_at = Located(source, data.span("parent"))
+        if "name" in data:
+            spec.name = prefixed(outer, str(data["name"]))
+        if "type" in data:
+            spec.type = str(data["type"])
+            if spec.type not in JOINT_TYPES:
+                self.out.diagnostics.append(source.error(
+                    "E009", f"unknown joint type '{spec.type}'", data.span("type"),
+                    did_you_mean(spec.type, JOINT_TYPES)
+                    or "expected one of: " + ", ".join(JOINT_TYPES)))
+        if "axis" in data:
+            spec.axis = self._vector(source, data, "axis", data["axis"], 3)
+        position = data.get("position")
+        if position is not None and self._expect(source, position, YamlMap, data, "position"):
+            for key in position:
+                if key not in ("linear", "angular"):
+                    self._unknown_key(source, position, key, ("linear", "angular"))
+            if "linear" in position:
+                spec.xyz = self._vector(source, position, "linear", position["linear"], 3)
+            if "angular" in position:
+                spec.rpy = self._vector(source, position, "angular", position["angular"], 3)
+        limits = data.get("limits")
+        if limits is not None and self._expect(source, limits, YamlMap, data, "limits"):
+            for key in limits:
+                if key not in _LIMIT_KEYS:
+                    self._unknown_key(source, limits, key, _LIMIT_KEYS)
+                else:
+                    spec.limits[key] = self._number(source, limits, key)
+        return spec
+
+    def _number(self, source, mapping: YamlMap, key) -> float:
+        value = mapping[key]
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            return float(value)
+        self.out.diagnostics.append(source.error("E009", f"'{key}' must be a number",
+                                                 mapping.span(key)))
+        return 0.0
+
+    def _vector(self, source, mapping: YamlMap, key, value, length: int | None) -> tuple:
+        ok = isinstance(value, list) and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+        if not ok or (length is not None and len(value) != length):
+            size = f"{length} numbers" if length is not None else "a list of numbers"
+            self.out.diagnostics.append(source.error(
+                "E009", f"'{key}' must be {size}", mapping.span(key)))
+            return tuple([0.0] * (length or 0))
+        return tuple(float(v) for v in value)
+
+    def _groups(self, source, groups, data, prefix) -> None:
+        if groups is None or not self._expect(source, groups, YamlMap, data, "joint_groups"):
+            return
+        for key, members in groups.items():
+            name = prefixed(prefix, str(key))
+            at = Located(source, groups.span(key))
+            if not isinstance(members, YamlList) or not members:
+                self.out.diagnostics.append(at.error(
+                    "E009", f"joint group '{name}' must be a non-empty list of joints or groups"))
+                continue
+            self.out.groups[name] = GroupEntry(
+                name, [prefixed(prefix, str(m)) for m in members],
+                [Located(source, members.span(i)) for i in range(len(members))], at)
+
+    def _initial(self, source, initial, data, prefix) -> None:
+        if initial is None or not self._expect(source, initial, YamlMap, data, "initial"):
+            return
+        for key, values in initial.items():
+            if isinstance(values, (int, float)) and not isinstance(values, bool):
+                values = [values]
+            vector = self._vector(source, initial, key, values, None)
+            self.out.initial.append((prefixed(prefix, str(key)), vector,
+                                     Located(source, initial.span(key))))
+
+    def _processors(self, source, processors, data, top: bool) -> None:
+        if processors is None or not self._expect(source, processors, YamlMap, data,
+                                                  "processors"):
+            return
+        for name, entry in processors.items():
+            at = Located(source, processors.span(name))
+            if not isinstance(entry, YamlMap) or "type" not in entry:
+                self.out.diagnostics.append(at.error(
+                    "E009", f"processor '{name}' needs a 'type:'",
+                    "for example: {type: qp_controller, options: {...}}"))
+                continue
+            options = entry.get("options") or {}
+            if not isinstance(options, dict):
+                self.out.diagnostics.append(at.error(
+                    "E009", f"options of processor '{name}' must be a mapping"))
+                options = {}
+            if top or name not in self.out.processors:
+                self.out.processors[name] = ProcessorEntry(
+                    str(name), str(entry["type"]),
+                    {str(k): to_seconds(v) for k, v in options.items()}, at)
+
+
+def _looked_in(folder: Path) -> str:
+    searched = ", ".join(str(p) for p in paths.search_folders(folder))
+    return f"looked in: {searched} (add folders with ROBOCOP_PATH)"

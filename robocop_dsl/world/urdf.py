@@ -1,0 +1,191 @@
+"""Reading one URDF: its links and joints with their source lines, renamed into a
+namespace, with mesh URIs resolved to absolute paths."""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+from xml.parsers import expat
+
+import numpy as np
+
+from ..diagnostics import SourceFile, Span
+from . import paths
+from .description import prefixed
+
+DOFS = {"fixed": 0, "revolute": 1, "continuous": 1, "prismatic": 1, "floating": 6,
+        "planar": 3}
+
+
+@dataclass
+class JointInfo:
+    """A joint of the world: type, bodies it links and limits (SI: rad or m, rad/s or m/s).
+
+    ``dofs`` counts velocity coordinates; a mimic joint has none of its own.
+    """
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    dofs: int
+    lower: np.ndarray
+    upper: np.ndarray
+    max_velocity: np.ndarray
+    mimic: str | None = None
+    where: str = ""
+
+
+@dataclass
+class UrdfModel:
+    """A URDF's elements after renaming, ready to merge into the world's URDF."""
+
+    path: Path
+    root: str | None
+    links: list = field(default_factory=list)
+    joints: list = field(default_factory=list)
+    elements: list = field(default_factory=list)
+    link_lines: dict = field(default_factory=dict)
+    joint_lines: dict = field(default_factory=dict)
+
+
+def element_lines(text: str) -> dict:
+    """Map ('link'|'joint', name) to the 1-based line of its element."""
+    lines: dict = {}
+    parser = expat.ParserCreate()
+
+    def start(tag, attrs):
+        if tag in ("link", "joint") and "name" in attrs:
+            lines.setdefault((tag, attrs["name"]), parser.CurrentLineNumber)
+
+    parser.StartElementHandler = start
+    try:
+        parser.Parse(text, True)
+    except expat.ExpatError:
+        pass
+    return lines
+
+
+def _floats(text: str | None, default: tuple) -> tuple:
+    if text is None:
+        return default
+    return tuple(float(v) for v in text.split())
+
+
+def joint_info(element: ET.Element, where: str) -> JointInfo:
+    """Describe a (renamed) URDF ``<joint>`` element."""
+    kind = element.get("type", "fixed")
+    dofs = DOFS.get(kind, 0)
+    limit = element.find("limit")
+    mimic = element.find("mimic")
+    lower = np.full(dofs, -math.inf)
+    upper = np.full(dofs, math.inf)
+    velocity = np.full(dofs, math.inf)
+    if limit is not None and kind in ("revolute", "prismatic"):
+        lower[:] = float(limit.get("lower", "-inf"))
+        upper[:] = float(limit.get("upper", "inf"))
+    if limit is not None and limit.get("velocity") and dofs:
+        velocity[:] = float(limit.get("velocity"))
+    if mimic is not None:
+        kind_dofs = 0
+        return JointInfo(element.get("name"), "mimic", element.find("parent").get("link"),
+                         element.find("child").get("link"), kind_dofs, np.zeros(0),
+                         np.zeros(0), np.zeros(0), mimic.get("joint"), where)
+    return JointInfo(element.get("name"), kind, element.find("parent").get("link"),
+                     element.find("child").get("link"), dofs, lower, upper, velocity,
+                     None, where)
+
+
+def read_urdf(path: Path, prefix: str, material_prefix: str,
+              diagnostics: list) -> UrdfModel | None:
+    """Read ``path`` and rename its links and joints into namespace ``prefix``.
+
+    Problems (malformed XML, unresolved meshes, a tree without a single root) are
+    appended to ``diagnostics``; ``None`` is returned when the file is unusable.
+    """
+    source = SourceFile.read(path)
+    try:
+        robot = ET.fromstring(source.text)
+    except ET.ParseError as error:
+        line, column = error.position
+        diagnostics.append(source.error("E004", f"malformed URDF: {error.msg}",
+                                        Span.point(line, column + 1)))
+        return None
+    lines = element_lines(source.text)
+    model = UrdfModel(path, None)
+    rename = {}
+    for link in robot.findall("link"):
+        new = prefixed(prefix, link.get("name", ""))
+        rename[link.get("name")] = new
+        model.link_lines[new] = lines.get(("link", link.get("name")), 1)
+        link.set("name", new)
+        model.links.append(new)
+    joint_names = {j.get("name"): prefixed(prefix, j.get("name", ""))
+                   for j in robot.findall("joint")}
+    children = set()
+    for joint in robot.findall("joint"):
+        line = lines.get(("joint", joint.get("name")), 1)
+        for tag in ("parent", "child"):
+            ref = joint.find(tag)
+            if ref is None or ref.get("link") not in rename:
+                diagnostics.append(source.error(
+                    "E004", f"joint '{joint.get('name')}' has no valid <{tag}> link",
+                    Span.point(line)))
+                return None
+            ref.set("link", rename[ref.get("link")])
+        children.add(joint.find("child").get("link"))
+        mimic = joint.find("mimic")
+        if mimic is not None:
+            mimic.set("joint", joint_names.get(mimic.get("joint"), mimic.get("joint")))
+        joint.set("name", joint_names[joint.get("name")])
+        model.joint_lines[joint.get("name")] = line
+        model.joints.append(joint_info(joint, f"{path}:{line}"))
+    for material in robot.iter("material"):
+        if material.get("name"):
+            material.set("name", material_prefix + material.get("name"))
+    _resolve_meshes(robot, source, lines, diagnostics)
+    roots = [name for name in model.links if name not in children]
+    if len(roots) != 1:
+        diagnostics.append(source.error(
+            "E004", f"a URDF must have exactly one root link, found {len(roots)}"
+            + (f": {', '.join(roots)}" if roots else ""), Span.point(1)))
+        return None
+    model.root = roots[0]
+    model.elements = [e for e in robot if e.tag in ("link", "joint", "material")]
+    return model
+
+
+def _resolve_meshes(robot: ET.Element, source: SourceFile, lines: dict,
+                    diagnostics: list) -> None:
+    folder = Path(source.path).parent
+    for link in robot.findall("link"):
+        for mesh in link.iter("mesh"):
+            uri = mesh.get("filename", "")
+            found = paths.resolve(uri, folder)
+            if found is None:
+                line = _mesh_line(source.text, uri)
+                diagnostics.append(source.error(
+                    "E003", f"cannot find mesh '{uri}' of link '{link.get('name')}'",
+                    Span.point(line), "package:// URIs resolve along the robots path "
+                    "(the URDF's folder, robots/, ROBOCOP_PATH)"))
+            else:
+                mesh.set("filename", str(found))
+
+
+def _mesh_line(text: str, uri: str) -> int:
+    for number, line in enumerate(text.splitlines(), 1):
+        if uri in line:
+            return number
+    return 1
+
+
+def error_at(diagnostics: list, urdf: UrdfModel, kind: str, name: str, code: str,
+             message: str, hint: str | None = None) -> None:
+    """Append a diagnostic located at the element ``kind`` named ``name`` of ``urdf``."""
+    table = urdf.link_lines if kind == "link" else urdf.joint_lines
+    line = table.get(name, 1)
+    source = SourceFile.read(urdf.path)
+    diagnostics.append(source.error(code, message, Span.point(line), hint))
+

@@ -1,0 +1,190 @@
+"""The :class:`World`: names, limits and groups of a composed world, and its pinocchio
+model (built on first use, so that checking a mission never pays for it)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+
+from ..diagnostics import Diagnostic, DiagnosticError
+from . import paths
+from .assembly import Assembly, BodyInfo, assemble
+from .description import read_description
+from .urdf import JointInfo
+
+
+@dataclass(frozen=True)
+class Processor:
+    """A ``processors:`` entry; durations in ``options`` are in seconds."""
+
+    name: str
+    type: str
+    options: dict
+
+
+@dataclass(frozen=True)
+class JointGroup:
+    """An ordered set of joints and their stacked coordinates.
+
+    Limits are per velocity dof, SI (rad, m, rad/s, m/s); ``inf`` where unlimited.
+    ``q_indices``/``v_indices`` locate the group's coordinates in the world's ``q``
+    (size ``model.nq``) and ``v`` (size ``model.nv``).
+    """
+
+    name: str
+    joints: tuple
+    dofs: int
+    lower: np.ndarray
+    upper: np.ndarray
+    max_velocity: np.ndarray
+    max_acceleration: np.ndarray
+    q_indices: np.ndarray
+    v_indices: np.ndarray
+
+
+class World:
+    """A composed world: bodies, joints, joint groups, processors and the kinematic model."""
+
+    def __init__(self, path: Path, assembly: Assembly, processors: dict):
+        self.path = Path(path)
+        self._assembly = assembly
+        self.processors = processors
+        self.urdf = assembly.urdf
+
+    def __repr__(self) -> str:
+        return (f"World({self.path.name}: {len(self._assembly.bodies)} bodies, "
+                f"{len(self._assembly.joints)} joints, {len(self._assembly.groups)} groups)")
+
+    def body_names(self) -> list:
+        return list(self._assembly.bodies)
+
+    def has_body(self, name: str) -> bool:
+        return name in self._assembly.bodies
+
+    def body(self, name: str) -> BodyInfo:
+        return self._assembly.bodies[name]
+
+    def joint_names(self) -> list:
+        return list(self._assembly.joints)
+
+    def joint(self, name: str) -> JointInfo:
+        return self._assembly.joints[name]
+
+    def group_names(self) -> list:
+        return list(self._assembly.groups)
+
+    def has_group(self, name: str) -> bool:
+        return name in self._assembly.groups
+
+    def controller_names(self) -> list:
+        return [p.name for p in self.processors.values() if p.type == "qp_controller"]
+
+    def joint_group(self, name: str) -> JointGroup:
+        """The group ``name``, or a single joint seen as a group."""
+        if name in self._assembly.groups:
+            joints = self._assembly.groups[name].joints
+        elif name in self._assembly.joints:
+            joints = (name,)
+        else:
+            raise KeyError(name)
+        infos = [self._assembly.joints[j] for j in joints if self._assembly.joints[j].dofs]
+        stack = (lambda attr: np.concatenate([getattr(i, attr) for i in infos])
+                 if infos else np.zeros(0))
+        dofs = sum(i.dofs for i in infos)
+        q_idx, v_idx = self._indices(tuple(i.name for i in infos))
+        return JointGroup(name, tuple(i.name for i in infos), dofs, stack("lower"),
+                          stack("upper"), stack("max_velocity"), np.full(dofs, math.inf),
+                          q_idx, v_idx)
+
+    def _indices(self, joints: tuple) -> tuple:
+        if not joints:
+            return np.zeros(0, dtype=int), np.zeros(0, dtype=int)
+        model = self.model
+        q_idx, v_idx = [], []
+        for name in joints:
+            joint = model.joints[model.getJointId(name)]
+            q_idx.extend(range(joint.idx_q, joint.idx_q + joint.nq))
+            v_idx.extend(range(joint.idx_v, joint.idx_v + joint.nv))
+        return np.array(q_idx, dtype=int), np.array(v_idx, dtype=int)
+
+    @cached_property
+    def model(self):
+        """The pinocchio model of the whole world (mimic joints kept as mimics)."""
+        import pinocchio as pin
+
+        return pin.buildModelFromXML(self.urdf, True)
+
+    @cached_property
+    def visual_model(self):
+        import pinocchio as pin
+
+        return pin.buildGeomFromUrdfString(self.model, self.urdf, pin.GeometryType.VISUAL)
+
+    @cached_property
+    def collision_model(self):
+        import pinocchio as pin
+
+        return pin.buildGeomFromUrdfString(self.model, self.urdf, pin.GeometryType.COLLISION)
+
+    def body_frame_id(self, name: str) -> int:
+        import pinocchio as pin
+
+        if name not in self._assembly.bodies:
+            raise KeyError(name)
+        return self.model.getFrameId(name, pin.FrameType.BODY)
+
+    def neutral_configuration(self) -> np.ndarray:
+        import pinocchio as pin
+
+        return pin.neutral(self.model)
+
+    def initial_configuration(self) -> np.ndarray:
+        """The neutral configuration with the world's ``initial:`` postures applied."""
+        q = self.neutral_configuration()
+        model = self.model
+        for name, values in self._assembly.initial.items():
+            joint = model.joints[model.getJointId(name)]
+            if joint.nq == joint.nv:
+                q[joint.idx_q:joint.idx_q + joint.nq] = values
+            elif joint.nv == 1:
+                q[joint.idx_q:joint.idx_q + 2] = [math.cos(values[0]), math.sin(values[0])]
+        return q
+
+    def body_pose(self, name: str, q: np.ndarray):
+        """Pose of body ``name`` in the world frame at configuration ``q`` (``pin.SE3``)."""
+        import pinocchio as pin
+
+        data = self.model.createData()
+        pin.forwardKinematics(self.model, data, q)
+        return pin.SE3(pin.updateFramePlacement(self.model, data, self.body_frame_id(name)))
+
+    def body_jacobian(self, name: str, q: np.ndarray) -> np.ndarray:
+        """6 x nv Jacobian of body ``name`` (linear then angular, LOCAL_WORLD_ALIGNED)."""
+        import pinocchio as pin
+
+        data = self.model.createData()
+        return pin.computeFrameJacobian(self.model, data, q, self.body_frame_id(name),
+                                        pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+
+
+def load_world(path: str | Path, relative_to: Path | None = None) -> World:
+    """Load a world file (a path, or a name along the robots path).
+
+    Raises:
+        DiagnosticError: every problem found, each naming its file and line.
+    """
+    resolved = paths.resolve_world_path(path, relative_to)
+    if resolved is None:
+        folders = ", ".join(str(p) for p in paths.search_folders(relative_to))
+        raise DiagnosticError([Diagnostic(
+            "E002", f"cannot find world file '{path}'", str(path), None,
+            hint=f"looked in: {folders} (add folders with ROBOCOP_PATH)")])
+    description = read_description(resolved)
+    assembly = assemble(description)
+    processors = {name: Processor(e.name, e.type, dict(e.options))
+                  for name, e in description.processors.items()}
+    return World(resolved, assembly, processors)
