@@ -131,9 +131,12 @@ class DiagnosticError(RobocopError):
 
 def did_you_mean(name: str, candidates: Iterable[str]) -> str | None:
     """A hint naming the closest candidates to ``name``, or ``None``."""
-    close = difflib.get_close_matches(name, sorted(set(candidates)), n=3, cutoff=0.6)
-    if not close:
+    scored = [(difflib.SequenceMatcher(None, name, c).ratio(), c) for c in set(candidates)]
+    scored = [(score, c) for score, c in scored if score >= 0.6]
+    if not scored:
         return None
+    best = max(score for score, _ in scored)
+    close = sorted(c for score, c in scored if score >= best - 1e-9)[:3]
     if len(close) == 1:
         return f"did you mean '{close[0]}'?"
     return "did you mean " + ", ".join(f"'{c}'" for c in close[:-1]) + f" or '{close[-1]}'?"

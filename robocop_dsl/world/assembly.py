@@ -46,9 +46,9 @@ def assemble(description: WorldDescription) -> Assembly:
     """Merge the described models into one URDF and name tables.
 
     Raises:
-        DiagnosticError: with every problem found.
+        DiagnosticError: with every problem found, the description's included.
     """
-    diagnostics: list = []
+    diagnostics: list = list(description.diagnostics)
     robot = ET.Element("robot", name="world")
     ET.SubElement(robot, "link", name=ROOT)
     result = Assembly(urdf="")
@@ -111,7 +111,8 @@ def _attach(robot: ET.Element, entry: ModelEntry, root: str, where: str,
             "E006", f"joint '{name}' is already defined ({result.joints[name].where})",
             "give the joint another 'name:'"))
         return
-    if spec.type in ("revolute", "prismatic") and not {"lower", "upper"} <= set(spec.limits):
+    if spec.type in ("revolute", "prismatic") and not {"lower", "upper", "velocity"} <= set(
+            spec.limits):
         diagnostics.append(spec.parent_at.error(
             "E009", f"a {spec.type} joint needs limits: {{lower: .., upper: .., velocity: ..}}"))
         return
@@ -122,11 +123,11 @@ def _attach(robot: ET.Element, entry: ModelEntry, root: str, where: str,
     if spec.type in ("revolute", "prismatic", "continuous", "planar"):
         ET.SubElement(joint, "axis", xyz=_text(spec.axis))
     if spec.limits or spec.type in ("revolute", "prismatic"):
-        limits = {"lower": 0.0, "upper": 0.0, "velocity": math.inf, "effort": 0.0}
+        limits = {"lower": 0.0, "upper": 0.0, "velocity": 0.0, "effort": 0.0}
         limits.update(spec.limits)
         ET.SubElement(joint, "limit", **{k: repr(float(v)) for k, v in limits.items()})
     dofs = DOFS[spec.type]
-    velocity = float(spec.limits.get("velocity", math.inf))
+    velocity = float(spec.limits.get("velocity", math.inf)) or math.inf
     bounded = spec.type in ("revolute", "prismatic")
     info = JointInfo(name, spec.type, spec.parent, root, dofs,
                      np.full(dofs, spec.limits["lower"] if bounded else -math.inf),

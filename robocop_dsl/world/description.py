@@ -104,15 +104,9 @@ def to_seconds(value):
 
 
 def read_description(path: Path) -> WorldDescription:
-    """Read a world file and its includes.
-
-    Raises:
-        DiagnosticError: with every problem found, each located in its file.
-    """
+    """Read a world file and its includes; problems go to ``description.diagnostics``."""
     description = WorldDescription(path=Path(path).resolve())
     _Reader(description).read(description.path, "", ())
-    if description.diagnostics:
-        raise DiagnosticError(description.diagnostics)
     return description
 
 
@@ -179,7 +173,7 @@ class _Reader:
 
     def _include(self, source, entry: YamlMap, inner: str, stack) -> None:
         name = str(entry["include"])
-        at = Located(source, entry.span("include"))
+        at = Located(source, entry.value_span("include"))
         target = paths.resolve(name, Path(source.path).parent)
         if target is None:
             self.out.diagnostics.append(at.error(
@@ -195,7 +189,7 @@ class _Reader:
 
     def _model(self, source, entry: YamlMap, outer: str, inner: str) -> None:
         name = str(entry["path"])
-        at = Located(source, entry.span("path"))
+        at = Located(source, entry.value_span("path"))
         urdf = paths.resolve(name, Path(source.path).parent)
         if urdf is None:
             self.out.diagnostics.append(at.error(
@@ -205,7 +199,7 @@ class _Reader:
         self.out.models.append(ModelEntry(urdf, inner, joint, at))
 
     def _joint(self, source, data, entry: YamlMap, outer: str) -> JointSpec:
-        spec = JointSpec(parent_at=Located(source, entry.span("path")))
+        spec = JointSpec(parent_at=Located(source, entry.value_span("path")))
         if data is None or not self._expect(source, data, YamlMap, entry, "joint"):
             return spec
         for key in data:
@@ -213,16 +207,17 @@ class _Reader:
                 self._unknown_key(source, data, key, _JOINT_KEYS)
         if "parent" in data:
             spec.parent = prefixed(outer, str(data["parent"]))
-            spec.parent_at = Located(source, data.span("parent"))
+            spec.parent_at = Located(source, data.value_span("parent"))
         if "name" in data:
             spec.name = prefixed(outer, str(data["name"]))
         if "type" in data:
             spec.type = str(data["type"])
             if spec.type not in JOINT_TYPES:
                 self.out.diagnostics.append(source.error(
-                    "E009", f"unknown joint type '{spec.type}'", data.span("type"),
+                    "E009", f"unknown joint type '{spec.type}'", data.value_span("type"),
                     did_you_mean(spec.type, JOINT_TYPES)
                     or "expected one of: " + ", ".join(JOINT_TYPES)))
+                spec.type = "fixed"
         if "axis" in data:
             spec.axis = self._vector(source, data, "axis", data["axis"], 3)
         position = data.get("position")

@@ -16,12 +16,17 @@ class YamlMap(dict):
     def __init__(self):
         super().__init__()
         self.key_spans: dict = {}
+        self.value_spans: dict = {}
 
     def span(self, key=None) -> Span:
         """Span of ``key`` (or of the mapping when ``key`` is absent or unknown)."""
         if key in self.key_spans:
             return self.key_spans[key]
         return Span.point(self.line, self.column)
+
+    def value_span(self, key) -> Span:
+        """Span of the value written for ``key`` (falls back to the key's span)."""
+        return self.value_spans.get(key) or self.span(key)
 
 
 class YamlList(list):
@@ -59,6 +64,7 @@ def _construct_map(loader: _Loader, node) -> YamlMap:
         key = loader.construct_object(key_node, deep=True)
         result[key] = loader.construct_object(value_node, deep=True)
         result.key_spans[key] = _span(key_node)
+        result.value_spans[key] = _span(value_node)
     return result
 
 

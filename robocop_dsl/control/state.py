@@ -1,0 +1,98 @@
+"""The state a controller cycle works on: kinematics restricted to the controlled joints."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from .exceptions import JointGroupOutsideController, UnknownName
+from .kinematics import Kinematics
+from .spatial import relative_jacobian
+
+
+class ControlState:
+    """What tasks and constraints read during a cycle.
+
+    Jacobians returned here have one column per controlled joint (the controller's
+    group, in its order). ``velocity`` is the current joint-velocity estimate of the
+    group [rad/s or m/s]: the measured one when the runtime passes it, else the
+    previous command.
+
+    Args:
+        kinematics: The world's kinematics.
+        group: The controlled joint group.
+        time_step: The control period [s].
+    """
+
+    def __init__(self, kinematics: Kinematics, group, time_step: float):
+        self.kinematics = kinematics
+        self.world = kinematics.world
+        self.group = group
+        self.time_step = time_step
+        self.dofs = group.dofs
+        self.v_indices = np.asarray(group.v_indices, dtype=int)
+        self.q_indices = np.asarray(group.q_indices, dtype=int)
+        self.velocity = np.zeros(self.dofs)
+        self.previous_command = np.zeros(self.dofs)
+        self._jacobians: dict[tuple[int, int], np.ndarray] = {}
+        self._stamp = -1
+
+    @property
+    def q(self) -> np.ndarray:
+        """Configuration (nq) of the whole model at this cycle."""
+        return self.kinematics.q
+
+    @property
+    def group_positions(self) -> np.ndarray:
+        """Positions of the controlled joints [rad or m]."""
+        return self.kinematics.q[self.q_indices]
+
+    def body(self, name: str) -> int:
+        """Frame id of a body; raises :class:`UnknownName` listing the bodies."""
+        return self.kinematics.frame_id(name)
+
+    def group_columns(self, name: str) -> tuple[object, np.ndarray]:
+        """A joint group of the world and the columns of its joints in the command."""
+        try:
+            group = self.world.joint_group(name)
+        except Exception as error:
+            names = getattr(self.world, "joint_group_names", lambda: [])()
+            raise UnknownName("joint group", name, names) from error
+        position = {int(v): i for i, v in enumerate(self.v_indices)}
+        outside = [joint for joint, v in zip(group.joints, group.v_indices)
+                   if int(v) not in position]
+        if outside:
+            raise JointGroupOutsideController(name, outside, self.group.name)
+        return group, np.array([position[int(v)] for v in group.v_indices], dtype=int)
+
+    def pose(self, frame_id: int, reference_id: int = 0) -> pin.SE3:
+        """Pose of a frame in a reference frame (``0`` is the world)."""
+        pose = self.kinematics.pose(frame_id)
+        if reference_id == 0:
+            return pose
+        return self.kinematics.pose(reference_id).actInv(pose)
+
+    def jacobian(self, frame_id: int, reference_id: int = 0) -> np.ndarray:
+        """6 x dofs Jacobian of ``[v, w]`` of a frame relative to a reference, in its axes."""
+        if self._stamp != self.kinematics.stamp:
+            self._jacobians.clear()
+            self._stamp = self.kinematics.stamp
+        key = (frame_id, reference_id)
+        jacobian = self._jacobians.get(key)
+        if jacobian is None:
+            kinematics = self.kinematics
+            jacobian = kinematics.jacobian(frame_id)[:, self.v_indices]
+            if reference_id != 0:
+                reference_pose = kinematics.pose(reference_id)
+                if kinematics.is_fixed(reference_id):
+                    rotation_t = reference_pose.rotation.T
+                    jacobian = np.vstack((rotation_t @ jacobian[:3], rotation_t @ jacobian[3:]))
+                else:
+                    reference = kinematics.jacobian(reference_id)[:, self.v_indices]
+                    jacobian = relative_jacobian(jacobian, kinematics.pose(frame_id),
+                                                 reference, reference_pose)
+            self._jacobians[key] = jacobian
+        return jacobian
+
+    def __repr__(self) -> str:
+        return f"ControlState(group={self.group.name!r}, dofs={self.dofs}, dt={self.time_step})"
