@@ -9,9 +9,9 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import world_cmd
+from . import plot_cmd, world_cmd
 
-COMMANDS = (world_cmd,)
+COMMANDS = (world_cmd, plot_cmd)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -97,7 +97,7 @@ def relative_jacobian(jacobian: np.ndarray, pose: pin.SE3, reference_jacobian: n
     return np.vstack((rotation_t @ linear, rotation_t @ angular))
 
 
-def as_pose(value, owner: str) -> pin.SE3 | None:
+def as_pose(value) -> pin.SE3 | None:
     """``value`` as a ``pin.SE3`` (from an SE3 or a 4x4 matrix), else ``None``."""
     if isinstance(value, pin.SE3):
         return value.copy()

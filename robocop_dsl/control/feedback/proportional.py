@@ -19,15 +19,15 @@ class ProportionalFeedback(FeedbackLoop):
 
     def __init__(self, gain=1.0):
         super().__init__()
-        self._raw = gain
-        self._gain = vector_parameter(self.kind, "gain", gain, np.size(gain), minimum=0.0)
-        if np.ndim(gain) == 0:
-            self._gain = float(gain)
+        self._gain = self._checked(gain, np.size(gain))
+
+    def _checked(self, value, size: int):
+        array = vector_parameter(self.kind, "gain", value, size, minimum=0.0)
+        return float(array[0]) if np.ndim(value) == 0 else array
 
     def validate(self) -> None:
         if np.ndim(self._gain) != 0:
-            self._gain = vector_parameter(self.kind, "gain", self._gain, self.dimension,
-                                          minimum=0.0)
+            self._gain = self._checked(self._gain, self.dimension)
 
     def compute(self, error: np.ndarray) -> np.ndarray:
         return self._gain * error
@@ -38,11 +38,8 @@ class ProportionalFeedback(FeedbackLoop):
 
     @gain.setter
     def gain(self, value) -> None:
-        if np.ndim(value) == 0:
-            self._gain = float(vector_parameter(self.kind, "gain", value, 1, minimum=0.0)[0])
-        else:
-            self._gain = vector_parameter(self.kind, "gain", value, self.dimension or np.size(value),
-                                          minimum=0.0)
+        size = 1 if np.ndim(value) == 0 else (self.dimension or np.size(value))
+        self._gain = self._checked(value, size)
 
     def parameters(self) -> dict:
         return {"gain": self._gain}

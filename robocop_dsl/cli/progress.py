@@ -1,0 +1,79 @@
+"""Terminal output of ``run``: a live line (rich) with mission time and state, plain
+transition lines when not a terminal, and the end-of-run summary."""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+
+from ..runtime.records import Observer
+
+REFRESH = 0.1
+
+
+class ProgressDisplay(Observer):
+    """Shows mission time and the active state; refreshes at most every 0.1 s of wall time."""
+
+    def __init__(self, mission_name: str, stream=None):
+        self.console = Console(file=stream or sys.stderr)
+        self.mission_name = mission_name
+        self.live = self.console.is_terminal
+        self._status = None
+        self._last = 0.0
+
+    def on_start(self, runner) -> None:
+        if self.live:
+            self._status = self.console.status(f"{self.mission_name}: starting")
+            self._status.start()
+        else:
+            self.console.print(f"{self.mission_name}: start in {runner.state}", highlight=False)
+
+    def on_cycle(self, record) -> None:
+        if self._status is None:
+            return
+        now = time.perf_counter()
+        if now - self._last >= REFRESH:
+            self._last = now
+            self._status.update(f"{self.mission_name}: {record.time:8.3f} s  [bold]{record.state}")
+
+    def on_event(self, event) -> None:
+        if event.kind == "transition":
+            text = (f"{event.time:8.3f} s  {event.data['from']} -> {event.data['to']}"
+                    f"  ({event.data['condition']})")
+            self.console.print(text, highlight=False)
+        elif event.kind in ("fault", "qp_failure", "overrun", "log"):
+            if event.kind == "qp_failure" and event.data.get("repeat"):
+                return
+            self.console.print(f"{event.time:8.3f} s  {event.kind}: {event.data.get('message', '')}",
+                               highlight=False)
+
+    def close(self) -> None:
+        if self._status is not None:
+            self._status.stop()
+            self._status = None
+
+
+def print_summary(result, stream) -> None:
+    """Outcome, final state, transitions with times and conditions, cycle timings."""
+    console = Console(file=stream, highlight=False, soft_wrap=True)
+    colour = {"success": "green", "failure": "red", "fault": "red"}.get(result.outcome, "yellow")
+    console.print(f"outcome: [{colour}]{result.outcome}[/]  final state: {result.final_state}"
+                  f"  mission time: {result.mission_time:.3f} s")
+    if result.message:
+        console.print(f"reason: {result.message}")
+    table = Table(title="transitions", show_edge=False)
+    for column in ("time [s]", "from", "to", "condition"):
+        table.add_column(column)
+    for transition in result.transitions:
+        table.add_row(f"{transition.time:.3f}", transition.source, transition.target,
+                      transition.condition)
+    console.print(table)
+    times = np.asarray(result.cycle_times) * 1e3
+    if len(times):
+        console.print(f"cycles: {result.cycles}  cycle time median {np.median(times):.3f} ms"
+                      f"  p99 {np.percentile(times, 99):.3f} ms  max {times.max():.3f} ms"
+                      f"  QP failures: {result.qp_failures}  overruns: {result.overruns}")

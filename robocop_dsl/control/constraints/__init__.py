@@ -1,0 +1,14 @@
+"""Constraints: bounds on the command that hold at every priority level."""
+
+from __future__ import annotations
+
+from .base import Constraint
+from .body_velocity import BodyVelocityConstraint
+from .joint_kinematic import JointKinematicConstraint
+
+CONSTRAINTS: dict[str, type[Constraint]] = {
+    cls.kind: cls for cls in (JointKinematicConstraint, BodyVelocityConstraint)
+}
+
+__all__ = ["BodyVelocityConstraint", "CONSTRAINTS", "Constraint", "JointKinematicConstraint"]
+

@@ -1,0 +1,82 @@
+"""Abstract constraint: linear bounds on the joint-velocity command, held at every level."""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+
+import numpy as np
+
+from ..state import ControlState
+
+
+class Constraint(ABC):
+    """``lower <= J dq <= upper`` for the command ``dq``, enabled when created.
+
+    Subclasses implement :meth:`compute_jacobian` and :meth:`compute_bounds`. A
+    constraint whose rows are joint velocities sets :attr:`box_columns` (the columns of
+    the command it bounds) so the solver can treat it as box bounds.
+
+    Args:
+        name: The constraint's name.
+        state: The controller's state.
+    """
+
+    kind = "constraint"
+    box_columns: np.ndarray | None = None
+
+    def __init__(self, name: str, state: ControlState):
+        self.name = name
+        self.state = state
+        self.enabled = True
+
+    @property
+    @abstractmethod
+    def rows(self) -> int:
+        """Number of constrained quantities."""
+
+    @abstractmethod
+    def compute_jacobian(self, state: ControlState) -> np.ndarray:
+        """Hook: rows x dofs matrix applied to the command."""
+
+    @abstractmethod
+    def compute_bounds(self, state: ControlState) -> tuple[np.ndarray, np.ndarray]:
+        """Hook: lower and upper bounds of the rows (``inf`` where unbounded)."""
+
+    def enable(self) -> None:
+        """Enable: the constraint holds from the next cycle."""
+        self.enabled = True
+
+    def disable(self) -> None:
+        """Disable: the controller ignores the constraint."""
+        self.enabled = False
+
+    @property
+    def label(self) -> str:
+        """``kind 'name'``, for messages."""
+        return f"{self.kind} '{self.name}'"
+
+    def parameters(self) -> dict:
+        """The constraint's parameters by name."""
+        return {}
+
+    def configure(self, **parameters) -> None:
+        """Change parameters by name (validated like the constructor's)."""
+        for key, value in parameters.items():
+            setattr(self, key, value)
+
+    def describe(self) -> str:
+        """What the constraint acts on, for ``repr``."""
+        return ""
+
+    def __repr__(self) -> str:
+        parameters = ", ".join(f"{key}={_short(value)}" for key, value in self.parameters().items())
+        return (f"{type(self).__name__}({self.name!r}, {self.describe()}{parameters}, "
+                f"enabled={self.enabled})")
+
+
+def _short(value):
+    if isinstance(value, np.ndarray):
+        if value.size and np.all(value == value.flat[0]):
+            return repr(float(value.flat[0]))
+        return repr([round(float(v), 6) for v in value])
+    return repr(value)

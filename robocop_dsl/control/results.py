@@ -1,0 +1,75 @@
+"""What one controller cycle returns."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class LevelResult:
+    """One priority level of a cycle.
+
+    Attributes:
+        priority: The level's priority (0 the highest; 0 for the weighted QP).
+        tasks: Names of the level's tasks.
+        solved: Whether the level's QP was solved (a lower level that fails keeps the
+            command of the levels above).
+        residual: ``sqrt(sum w (J dq - v)^2)`` of the level's tasks at the final
+            command [task units/s].
+        status: The solver's status.
+    """
+
+    priority: int
+    tasks: tuple[str, ...]
+    solved: bool
+    residual: float
+    status: str = ""
+
+
+@dataclass(frozen=True)
+class Timings:
+    """Durations of the parts of a cycle [s]."""
+
+    kinematics: float = 0.0
+    tasks: float = 0.0
+    constraints: float = 0.0
+    solve: float = 0.0
+    total: float = 0.0
+
+
+@dataclass(frozen=True)
+class ControlResult:
+    """The command of one cycle.
+
+    Attributes:
+        velocity: Joint-velocity command of the controlled group [rad/s or m/s], in the
+            group's joint order; zeros when the cycle failed, never NaN.
+        solved: Whether a command satisfying every enabled constraint was found.
+        levels: Per priority level results, highest priority first.
+        timings: Where the time went.
+        reason: Why the cycle failed, else ``None``.
+    """
+
+    velocity: np.ndarray
+    solved: bool
+    levels: tuple[LevelResult, ...] = ()
+    timings: Timings = field(default_factory=Timings)
+    reason: str | None = None
+
+    @property
+    def failed(self) -> bool:
+        """Whether the cycle failed (the command is a zero velocity)."""
+        return not self.solved
+
+    @property
+    def residuals(self) -> tuple[float, ...]:
+        """Residual of each level, highest priority first."""
+        return tuple(level.residual for level in self.levels)
+
+    def __repr__(self) -> str:
+        state = "solved" if self.solved else f"failed: {self.reason}"
+        residuals = ", ".join(f"{r:.3g}" for r in self.residuals)
+        return (f"ControlResult({state}, |velocity|={np.linalg.norm(self.velocity):.4g}, "
+                f"residuals=[{residuals}], total={self.timings.total * 1e6:.0f} us)")

@@ -1,0 +1,88 @@
+"""A quadratic program in the controller's form, its solution, and the solver interface."""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..exceptions import InvalidParameter
+
+
+@dataclass
+class QuadraticProgram:
+    """``min 1/2 x'Hx + g'x  s.t.  Ax = b,  l <= Cx <= u,  lower <= x <= upper``.
+
+    ``x`` is the joint-velocity command of the controlled group. Bounds may be
+    infinite. Shapes are checked at construction.
+    """
+
+    H: np.ndarray
+    g: np.ndarray
+    A: np.ndarray
+    b: np.ndarray
+    C: np.ndarray
+    l: np.ndarray
+    u: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+    def __post_init__(self):
+        n = self.g.shape[0]
+        expected = {"H": (n, n), "A": (self.b.shape[0], n), "C": (self.l.shape[0], n),
+                    "u": self.l.shape, "lower": (n,), "upper": (n,)}
+        for name, shape in expected.items():
+            if getattr(self, name).shape != shape:
+                raise InvalidParameter("quadratic program", name, getattr(self, name).shape,
+                                       f"shape {shape}")
+
+    @property
+    def size(self) -> tuple[int, int, int]:
+        """Variables, equality rows and inequality rows."""
+        return self.g.shape[0], self.b.shape[0], self.l.shape[0]
+
+    def violation(self, x: np.ndarray) -> float:
+        """Largest constraint violation of ``x`` (0 when feasible)."""
+        worst = max(0.0, float(np.max(self.lower - x, initial=0.0)),
+                    float(np.max(x - self.upper, initial=0.0)))
+        if self.b.size:
+            worst = max(worst, float(np.max(np.abs(self.A @ x - self.b))))
+        if self.l.size:
+            cx = self.C @ x
+            worst = max(worst, float(np.max(self.l - cx, initial=0.0)),
+                        float(np.max(cx - self.u, initial=0.0)))
+        return worst
+
+
+@dataclass
+class QPSolution:
+    """A solver's answer.
+
+    Attributes:
+        found: Whether the solver reports an optimal solution.
+        x: The solution (zeros when not found).
+        iterations: Solver iterations, when the backend reports them.
+        status: The backend's status, as text.
+    """
+
+    found: bool
+    x: np.ndarray
+    iterations: int = 0
+    status: str = field(default="")
+
+
+class QPSolver(ABC):
+    """A QP backend behind one signature; instances may keep state between cycles."""
+
+    name = "solver"
+
+    @abstractmethod
+    def solve(self, problem: QuadraticProgram) -> QPSolution:
+        """Solve ``problem``; never raises on numerical failure (``found=False``)."""
+
+    def reset(self) -> None:
+        """Forget warm-start data; nothing by default."""
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.name!r})"

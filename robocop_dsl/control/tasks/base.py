@@ -1,0 +1,272 @@
+"""Abstract task: a desired motion of a body or joint group, as a QP objective.
+
+A subclass implements three hooks, :meth:`Task.compute_value` (where the task is
+now), :meth:`Task.compute_error` (from now to a reference, in the task's velocity
+coordinates) and :meth:`Task.compute_jacobian` (from the command to those
+velocities). :meth:`Task.compute_objective` drives them and must not be overridden: it
+steps the interpolator towards the target, adds the interpolator's velocity and the
+feedback loop's correction, and returns the Jacobian and the velocity to track.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+
+import numpy as np
+
+from ..exceptions import InvalidParameter
+from ..feedback import FeedbackLoop, ProportionalFeedback, make_feedback_loop
+from ..interpolators import Interpolator, make_interpolator
+from ..parameters import integer_parameter, vector_parameter
+from ..spatial import CURRENT, BodyTarget, Current, VectorChart
+from ..state import ControlState
+
+
+class Task(ABC):
+    """A motion objective; disabled until enabled.
+
+    Args:
+        name: The task's name.
+        state: The controller's state (names are resolved against its world).
+        dimension: Number of task coordinates.
+        target: Initial target; ``None`` holds the current value (position-like tasks)
+            or asks for zero velocity (velocity tasks).
+        interpolator: An :class:`Interpolator`, a kind, or ``None`` (``"none"``).
+        feedback: A :class:`FeedbackLoop` or a kind; default ``proportional(gain=1)``
+            for position-like tasks and no correction for velocity tasks.
+        weight: Scalar or per-axis weight [-], non-negative.
+        priority: Priority level, 0 the highest (used by the strict hierarchy).
+        gain: Shortcut setting the feedback loop's proportional gain [1/s].
+    """
+
+    kind = "task"
+    order = 0
+    angular_axes: tuple[int, ...] = ()
+
+    def __init__(self, name: str, state: ControlState, dimension: int, *, target=None,
+                 interpolator=None, feedback=None, weight=1.0, priority: int = 0,
+                 gain=None):
+        self.name = name
+        self.state = state
+        self.dimension = dimension
+        self.enabled = False
+        self._restart = True
+        self._held = None
+        self._chart = VectorChart()
+        self._reference = None
+        self._interpolator: Interpolator
+        self._feedback: FeedbackLoop
+        self.set_interpolator(interpolator)
+        default = ProportionalFeedback(1.0 if self.order == 0 else 0.0)
+        self.set_feedback_loop(default if feedback is None else feedback)
+        if gain is not None:
+            self.gain = gain
+        self.weight = weight
+        self.priority = priority
+        self.target = target
+
+    @abstractmethod
+    def compute_value(self, state: ControlState):
+        """Hook: the task's current value (vector, rotation matrix or ``pin.SE3``)."""
+
+    @abstractmethod
+    def compute_error(self, state: ControlState, reference) -> np.ndarray:
+        """Hook: error from the current value to ``reference``, in velocity coordinates."""
+
+    @abstractmethod
+    def compute_jacobian(self, state: ControlState) -> np.ndarray:
+        """Hook: dimension x dofs Jacobian from the command to the task velocity."""
+
+    def convert_target(self, value):
+        """Hook: a target value checked and converted; default a vector of dimension."""
+        return vector_parameter(self.label, "target", value, self.dimension, allow_inf=True)
+
+    def chart_for(self, value):
+        """Hook: the chart interpolating from ``value``; default the identity."""
+        return self._chart
+
+    def compute_objective(self, state: ControlState) -> tuple[np.ndarray, np.ndarray]:
+        """The Jacobian and the velocity the task asks for this cycle."""
+        jacobian = self.compute_jacobian(state)
+        value = self.compute_value(state)
+        if self._restart:
+            self._start(state, jacobian, value)
+        chart = self._chart
+        interpolator = self._interpolator
+        interpolator.target = chart.to_vector(self._goal(state, value))
+        position, rate = interpolator.step()
+        reference = chart.from_vector(position)
+        self._reference = reference
+        error = self.compute_error(state, reference)
+        feedforward = chart.velocity(position, rate) if self.order == 0 else position
+        return jacobian, feedforward + self._feedback.compute(error)
+
+    def _start(self, state: ControlState, jacobian: np.ndarray, value) -> None:
+        self._restart = False
+        self._held = value.copy() if isinstance(self._target, Current) else None
+        self._chart = self.chart_for(value)
+        if self.order == 0:
+            rate = self._chart.rate(jacobian @ state.velocity)
+            self._interpolator.restart(self._chart.to_vector(value), rate)
+        else:
+            self._interpolator.restart(value, np.zeros(self.dimension))
+        self._feedback.reset()
+
+    def _goal(self, state: ControlState, value):
+        target = self._target
+        if isinstance(target, Current):
+            return value if self._held is None else self._held
+        if isinstance(target, BodyTarget):
+            return self.value_from_body(state, target)
+        return target
+
+    def value_from_body(self, state: ControlState, target: BodyTarget):
+        """Hook: value of a tracked body target; tasks that accept one override it."""
+        raise InvalidParameter(self.label, "target", target, "no body target for this task")
+
+    @property
+    def label(self) -> str:
+        """``kind 'name'``, for messages."""
+        return f"{self.kind} '{self.name}'"
+
+    @property
+    def target(self):
+        """The target: a value, :class:`BodyTarget` or ``CURRENT``; setting restarts."""
+        return self._target
+
+    @target.setter
+    def target(self, value) -> None:
+        if value is None:
+            value = CURRENT if self.order == 0 else np.zeros(self.dimension)
+        if not isinstance(value, (Current, BodyTarget)):
+            value = self.convert_target(value)
+        self._target = value
+        self._restart = True
+
+    def target_is_finite(self) -> bool:
+        """Whether the target holds no NaN or infinite number."""
+        target = self._target
+        if isinstance(target, (Current, BodyTarget)):
+            return True
+        matrix = getattr(target, "homogeneous", target)
+        return bool(np.isfinite(matrix).all())
+
+    def enable(self) -> None:
+        """Enable; the interpolator restarts from the current state at the next cycle."""
+        self.enabled = True
+        self._restart = True
+
+    def disable(self) -> None:
+        """Disable; the controller ignores the task."""
+        self.enabled = False
+
+    def reset(self) -> None:
+        """Restart the interpolator and feedback loop from the current state."""
+        self._restart = True
+
+    def interpolator(self) -> Interpolator:
+        """The task's interpolator."""
+        return self._interpolator
+
+    def set_interpolator(self, spec, **parameters) -> Interpolator:
+        """Replace the interpolator (instance or kind and parameters); restarts."""
+        interpolator = make_interpolator(spec, **parameters)
+        angular = np.zeros(self.dimension, dtype=bool)
+        angular[list(self.angular_axes)] = True
+        interpolator.setup(self.dimension, self.state.time_step, angular)
+        self._interpolator = interpolator
+        self._restart = True
+        return interpolator
+
+    def feedback_loop(self) -> FeedbackLoop:
+        """The task's feedback loop."""
+        return self._feedback
+
+    def set_feedback_loop(self, spec, **parameters) -> FeedbackLoop:
+        """Replace the feedback loop (instance or kind and parameters)."""
+        feedback = make_feedback_loop(spec, **parameters)
+        feedback.setup(self.dimension, self.state.time_step)
+        self._feedback = feedback
+        return feedback
+
+    @property
+    def gain(self):
+        """Proportional gain of the feedback loop [1/s]."""
+        return self._feedback.gain
+
+    @gain.setter
+    def gain(self, value) -> None:
+        self._feedback.gain = value
+
+    @property
+    def weight(self) -> np.ndarray:
+        """Per-axis weight [-] (a scalar is broadcast)."""
+        return self._weight
+
+    @weight.setter
+    def weight(self, value) -> None:
+        self._weight = vector_parameter(self.label, "weight", value, self.dimension,
+                                        minimum=0.0)
+
+    @property
+    def priority(self) -> int:
+        """Priority level, 0 the highest."""
+        return self._priority
+
+    @priority.setter
+    def priority(self, value: int) -> None:
+        self._priority = integer_parameter(self.label, "priority", value)
+
+    @property
+    def reference_value(self):
+        """The interpolated reference of the last cycle (``None`` before one)."""
+        return self._reference
+
+    @property
+    def reached(self) -> bool:
+        """Whether the task is enabled and its interpolator has finished."""
+        return self.enabled and not self._restart and self._interpolator.finished
+
+    def error_vector(self) -> np.ndarray:
+        """Error from the current state to the target (NaN before any state)."""
+        state = self.state
+        if state.kinematics.q is None:
+            return np.full(self.dimension, np.nan)
+        value = self.compute_value(state)
+        return self.compute_error(state, self._goal(state, value))
+
+    @property
+    def error(self) -> float:
+        """Norm of the error to the target, at the latest state [task units]."""
+        return float(np.linalg.norm(self.error_vector()))
+
+    @property
+    def position_error(self) -> float:
+        """Norm of the non-rotation part of the error [m or rad for joints]."""
+        error = self.error_vector()
+        return float(np.linalg.norm(np.delete(error, list(self.angular_axes))))
+
+    @property
+    def orientation_error(self) -> float:
+        """Norm of the rotation part of the error [rad]."""
+        return float(np.linalg.norm(self.error_vector()[list(self.angular_axes)]))
+
+    def parameters(self) -> dict:
+        """The task's parameters by name."""
+        return {"target": self._target, "interpolator": self._interpolator,
+                "feedback": self._feedback, "weight": self._weight,
+                "priority": self._priority, "gain": self.gain}
+
+    def describe(self) -> str:
+        """What the task acts on, for ``repr``."""
+        return ""
+
+    def __repr__(self) -> str:
+        weight = self._weight
+        weight = float(weight[0]) if np.all(weight == weight[0]) else weight.tolist()
+        target = self._target
+        if isinstance(target, np.ndarray):
+            target = [round(float(v), 6) for v in target]
+        return (f"{type(self).__name__}({self.name!r}, {self.describe()}target={target}, "
+                f"interpolator={self._interpolator!r}, feedback={self._feedback!r}, "
+                f"weight={weight}, priority={self._priority}, enabled={self.enabled})")

@@ -1,0 +1,336 @@
+"""The mission syntax tree: frozen dataclasses, each with the source span it came from.
+
+Spans do not take part in equality, so two trees that say the same thing compare equal
+wherever they were written (the formatter's round trip relies on it). Numbers are kept
+as written in the mission's units; converting them to SI is the checker's business.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Union
+
+from ..diagnostics import Span
+
+NO_SPAN = Span(0, 0, 0, 0)
+
+
+@dataclass(frozen=True)
+class Node:
+    """Base of every node: ``span`` locates it in the mission file."""
+
+    span: Span = field(default=NO_SPAN, compare=False, repr=False, kw_only=True)
+
+
+@dataclass(frozen=True)
+class Name(Node):
+    """An identifier as written: a task, body, state, unit, parameter..."""
+
+    text: str
+
+
+# ---- values ------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Quantity(Node):
+    """A number with an optional unit (``None``: SI)."""
+
+    value: float
+    unit: Name | None = None
+
+
+@dataclass(frozen=True)
+class Vector(Node):
+    """``[a, b, c] unit``: numbers sharing one optional unit."""
+
+    values: tuple[float, ...]
+    unit: Name | None = None
+
+
+@dataclass(frozen=True)
+class Reference(Node):
+    """A bare name used as a value: a body, ``world``, ``current``, ``none``."""
+
+    name: Name
+
+
+@dataclass(frozen=True)
+class Offset(Node):
+    """``BODY offset VECTOR``: a point displaced from a body."""
+
+    body: Name
+    offset: Vector
+
+
+@dataclass(frozen=True)
+class Argument(Node):
+    """One argument of a call: ``name = value`` or a positional ``value``."""
+
+    name: Name | None
+    value: "Value"
+
+
+@dataclass(frozen=True)
+class Call(Node):
+    """``kind(arguments)``: an interpolator, a feedback law or ``pose(...)``."""
+
+    kind: Name
+    arguments: tuple[Argument, ...] = ()
+
+
+@dataclass(frozen=True)
+class String(Node):
+    """A double-quoted string, without its quotes and with escapes resolved."""
+
+    text: str
+
+
+Value = Union[Quantity, Vector, Reference, Offset, Call, String]
+
+
+@dataclass(frozen=True)
+class Parameter(Node):
+    """``name = value`` inside a task or constraint declaration."""
+
+    name: Name
+    value: Value
+
+
+# ---- conditions --------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Member(Node):
+    """``owner.field``: ``arms.reached``, ``left_tool.error``, ``controller.failed``."""
+
+    owner: Name
+    field: Name
+
+
+@dataclass(frozen=True)
+class Elapsed(Node):
+    """Time spent in the current state [s]."""
+
+
+@dataclass(frozen=True)
+class Time(Node):
+    """Time since the mission started [s]."""
+
+
+@dataclass(frozen=True)
+class Distance(Node):
+    """``distance(A, B)``: distance between the origins of two bodies [m]."""
+
+    first: Name
+    second: Name
+
+
+Measure = Union[Member, Elapsed, Time, Distance]
+
+
+@dataclass(frozen=True)
+class Comparison(Node):
+    """``measure OP quantity`` with OP one of ``< <= > >=``."""
+
+    measure: Measure
+    operator: str
+    quantity: Quantity
+
+
+@dataclass(frozen=True)
+class EventCondition(Node):
+    """``event NAME``: true in the cycle after the event was emitted."""
+
+    event: Name
+
+
+@dataclass(frozen=True)
+class Not(Node):
+    operand: "Condition"
+
+
+@dataclass(frozen=True)
+class And(Node):
+    operands: tuple["Condition", ...]
+
+
+@dataclass(frozen=True)
+class Or(Node):
+    operands: tuple["Condition", ...]
+
+
+Condition = Union[Member, Comparison, EventCondition, Not, And, Or]
+
+
+# ---- actions -----------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Enable(Node):
+    names: tuple[Name, ...]
+
+
+@dataclass(frozen=True)
+class Disable(Node):
+    names: tuple[Name, ...]
+
+
+@dataclass(frozen=True)
+class Reset(Node):
+    """Restart the interpolators of tasks from the current state."""
+
+    names: tuple[Name, ...]
+
+
+@dataclass(frozen=True)
+class Assign(Node):
+    """``owner.field = value``: set a task's target, gain, weight..."""
+
+    owner: Name
+    field: Name
+    value: Value
+
+
+@dataclass(frozen=True)
+class Attach(Node):
+    """``attach BODY to PARENT``: the body moves rigidly with the parent from now on."""
+
+    body: Name
+    parent: Name
+
+
+@dataclass(frozen=True)
+class Detach(Node):
+    body: Name
+
+
+@dataclass(frozen=True)
+class Emit(Node):
+    event: Name
+
+
+@dataclass(frozen=True)
+class Log(Node):
+    text: str
+
+
+Action = Union[Enable, Disable, Reset, Assign, Attach, Detach, Emit, Log]
+
+
+# ---- declarations ------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class MissionHeader(Node):
+    name: Name
+    description: str | None = None
+
+
+@dataclass(frozen=True)
+class WorldDecl(Node):
+    """``world "FILE"``: the world file, relative to the mission, then the robots path."""
+
+    path: String
+
+
+@dataclass(frozen=True)
+class ControllerDecl(Node):
+    name: Name
+
+
+@dataclass(frozen=True)
+class TaskDecl(Node):
+    """``task NAME: TYPE(ARGS) { PARAMETERS }``."""
+
+    name: Name
+    kind: Name
+    arguments: tuple[Name, ...]
+    parameters: tuple[Parameter, ...] = ()
+
+
+@dataclass(frozen=True)
+class ConstraintDecl(Node):
+    """``constraint NAME: TYPE(ARGS) { PARAMETERS }``."""
+
+    name: Name
+    kind: Name
+    arguments: tuple[Name, ...]
+    parameters: tuple[Parameter, ...] = ()
+
+
+@dataclass(frozen=True)
+class StartDecl(Node):
+    state: Name
+
+
+@dataclass(frozen=True)
+class ActionBlock(Node):
+    """``enter``, ``during`` or ``exit`` followed by its actions."""
+
+    kind: str
+    actions: tuple[Action, ...] = ()
+
+
+@dataclass(frozen=True)
+class Transition(Node):
+    """``when CONDITION -> STATE``, inside a state or at the top level (a guard)."""
+
+    condition: Condition
+    target: Name
+
+
+StatePart = Union[ActionBlock, Transition]
+
+
+@dataclass(frozen=True)
+class StateDecl(Node):
+    """``state NAME { ... }`` or ``final NAME[: OUTCOME] [{ ... }]``; parts in order."""
+
+    name: Name
+    parts: tuple[StatePart, ...] = ()
+    final: bool = False
+    outcome: Name | None = None
+
+    @property
+    def blocks(self) -> tuple[ActionBlock, ...]:
+        return tuple(p for p in self.parts if isinstance(p, ActionBlock))
+
+    @property
+    def transitions(self) -> tuple[Transition, ...]:
+        return tuple(p for p in self.parts if isinstance(p, Transition))
+
+    def block(self, kind: str) -> ActionBlock | None:
+        """The first ``enter``/``during``/``exit`` block, if any."""
+        return next((b for b in self.blocks if b.kind == kind), None)
+
+
+Item = Union[MissionHeader, WorldDecl, ControllerDecl, TaskDecl, ConstraintDecl, StartDecl,
+             StateDecl, Transition]
+
+
+@dataclass(frozen=True)
+class Mission(Node):
+    """A whole mission file: its items in source order."""
+
+    items: tuple[Item, ...] = ()
+
+    def of_type(self, kind: type) -> list:
+        return [item for item in self.items if isinstance(item, kind)]
+
+    @property
+    def tasks(self) -> list[TaskDecl]:
+        return self.of_type(TaskDecl)
+
+    @property
+    def constraints(self) -> list[ConstraintDecl]:
+        return self.of_type(ConstraintDecl)
+
+    @property
+    def states(self) -> list[StateDecl]:
+        return self.of_type(StateDecl)
+
+    @property
+    def guards(self) -> list[Transition]:
+        """The top-level ``when`` clauses, checked in every state after its own."""
+        return self.of_type(Transition)
+
+    def first(self, kind: type):
+        """The first item of ``kind``, or ``None``."""
+        return next((item for item in self.items if isinstance(item, kind)), None)

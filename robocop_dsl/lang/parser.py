@@ -1,0 +1,112 @@
+"""Parse mission text into the syntax tree, reporting every syntax error found.
+
+The grammar is ``mission.lark`` from the shipped grammar folder, loaded once (LALR,
+positions propagated). Newlines end statements; :class:`StatementBreaks` drops the
+ones inside brackets so long vectors and calls may span lines.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from pathlib import Path
+
+from lark import Lark, Token
+from lark.exceptions import LarkError, VisitError
+from lark.lark import PostLex
+
+from ..diagnostics import Diagnostic, SourceFile, Span
+from ..resources import GRAMMAR_DIR
+from . import ast
+from .syntax_errors import KEYWORDS, Recovery
+from .transformer import MissionBuilder
+
+_OPENING = {"LSQB": "[", "LPAR": "("}
+_CLOSING = {"RSQB", "RPAR"}
+
+
+class StatementBreaks(PostLex):
+    """Drop newlines inside ``[]`` and ``()``, merge repeated ones, end the file with one.
+
+    A newline inside brackets is kept (and the brackets forgotten) when the next token
+    cannot continue them, so a missing ``]`` does not swallow the following lines.
+    """
+
+    always_accept = ("_NL",)
+
+    def process(self, stream):
+        brackets: list[str] = []
+        held: Token | None = None
+        last: Token | None = None
+        for token in stream:
+            if held is not None:
+                if not self._continues(last, token, brackets[-1]):
+                    brackets.clear()
+                    last = held
+                    yield held
+                held = None
+            if token.type == "_NL":
+                if brackets:
+                    held = token
+                    continue
+                if last is not None and last.type == "_NL":
+                    continue
+            elif token.type in _OPENING:
+                brackets.append(_OPENING[token.type])
+            elif token.type in _CLOSING and brackets:
+                brackets.pop()
+            elif token.type in ("LBRACE", "RBRACE"):
+                brackets.clear()
+            last = token
+            yield token
+        if last is not None and last.type != "_NL":
+            yield Token.new_borrow_pos("_NL", "", last)
+
+    @staticmethod
+    def _continues(last: Token | None, token: Token, bracket: str) -> bool:
+        """Whether a line break between ``last`` and ``token`` is inside the brackets."""
+        if token.type == "NAME" and token.value in KEYWORDS:
+            return False
+        if token.type in ("COMMA", "RPAR", "RSQB"):
+            return True
+        after_separator = last is not None and last.type in ("COMMA", "LPAR", "LSQB")
+        return after_separator or (bracket == "[" and token.type == "NUMBER")
+
+
+@functools.lru_cache(maxsize=None)
+def mission_grammar() -> Lark:
+    """The mission parser, built once from ``mission.lark``."""
+    return Lark((GRAMMAR_DIR / "mission.lark").read_text(encoding="utf-8"),
+                parser="lalr", lexer="contextual", propagate_positions=True,
+                postlex=StatementBreaks(), import_paths=[GRAMMAR_DIR])
+
+
+@dataclass(frozen=True)
+class ParseResult:
+    """What parsing a mission gave: the tree of what parsed and every syntax error."""
+
+    mission: ast.Mission
+    diagnostics: tuple[Diagnostic, ...]
+    source: SourceFile
+
+    @property
+    def ok(self) -> bool:
+        return not any(d.is_error for d in self.diagnostics)
+
+
+def parse_mission(text: str, path: str | Path = "<mission>") -> ParseResult:
+    """Parse mission ``text``; never raises on bad input, diagnostics say what is wrong."""
+    source = SourceFile(str(path), text)
+    recovery = Recovery(source, mission_grammar())
+    try:
+        tree = mission_grammar().parse(text, on_error=recovery)
+        mission = MissionBuilder().transform(tree)
+    except (LarkError, VisitError) as error:
+        recovery.give_up(error)
+        mission = ast.Mission(span=Span.point(1))
+    return ParseResult(mission, tuple(recovery.diagnostics), source)
+
+
+def parse_file(path: str | Path) -> ParseResult:
+    """Read and parse a mission file (UTF-8)."""
+    return parse_mission(Path(path).read_text(encoding="utf-8"), path)

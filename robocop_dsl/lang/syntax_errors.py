@@ -1,0 +1,253 @@
+"""Syntax errors: label them with what was expected and recover to report the next ones.
+
+:class:`Recovery` is the ``on_error`` handler of lark's LALR parser. On an unexpected
+token it first tries the typical mistakes (a missing ``->``, ``}``, ``)``, ``]``, ``=``
+or ``:``; ``:`` written for ``=`` and back) by feeding the interactive parser the token
+that was meant; otherwise it reports the token with the expected ones, skips the rest
+of the statement and pops the parser back to where the statement began.
+"""
+
+from __future__ import annotations
+
+from lark import Lark, Token
+from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
+
+from ..diagnostics import Diagnostic, SourceFile, Span
+
+KEYWORDS = frozenset({
+    "mission", "controller", "constraint", "task", "start", "state", "final", "when",
+    "enter", "during", "exit", "enable", "disable", "reset", "attach", "detach", "emit",
+    "log"})
+
+_SUBSTITUTES = {"COLON": "EQUAL", "EQUAL": "COLON"}
+_INSERTIONS = (("_ARROW",), ("RBRACE",), ("RPAR",), ("RSQB",), ("EQUAL",), ("COLON",),
+               ("RBRACE", "_NL"), ("RSQB", "_NL"), ("RPAR", "_NL"), ("_NL",))
+_SYNC = ("_NL", "RBRACE")
+# Parsed statements that recovery never discards while looking for a place to resume.
+_COMPLETE = frozenset({
+    "mission_header", "world_decl", "controller_decl", "constraint_decl", "task_decl",
+    "start_decl", "state_decl", "final_decl", "guard", "param", "param_block",
+    "state_body", "action_block", "clause", "enable", "disable", "reset", "assign",
+    "attach", "detach", "emit", "log"})
+_NAMED = {"NAME": "a name", "NUMBER": "a number", "STRING": "a string", "UNIT": "a unit",
+          "_NL": "a new line", "$END": "the end of the file", "COMPARE": "a comparison",
+          "_ARROW": "'->'"}
+_GENERIC_HINT_LIMIT = 8
+
+
+def _interchangeable(kind: str) -> tuple[str, ...]:
+    """Names and units are lexed alike outside their context; try both."""
+    return ("NAME", "UNIT") if kind in ("NAME", "UNIT") else (kind,)
+
+
+class Recovery:
+    """The parser's ``on_error`` handler; collects diagnostics in ``diagnostics``."""
+
+    def __init__(self, source: SourceFile, parser: Lark):
+        self.source = source
+        self.diagnostics: list[Diagnostic] = []
+        self._skip_line: int | None = None
+        self._literals = {t.name: t.pattern.value for t in parser.terminals
+                          if t.pattern.type == "str"}
+
+    # ---- the handler ----
+    def __call__(self, error: UnexpectedInput) -> bool:
+        if isinstance(error, UnexpectedCharacters):
+            self._bad_character(error)
+            return True
+        if not isinstance(error, UnexpectedToken) or error.interactive_parser is None:
+            return False
+        parser, token = error.interactive_parser, error.token
+        if token.type == "$END":
+            self._finish(parser, token)
+            return True
+        skipping = self._skip_line is not None and token.line == self._skip_line
+        if not skipping:
+            self._skip_line = None
+            if self._repair(parser, token):
+                return True
+            self._unexpected(parser, token)
+            self._skip_line = token.line
+        if token.type in _SYNC:
+            self._resync(parser, token)
+        return True
+
+    def give_up(self, error: Exception) -> None:
+        """Parsing stopped for good: make sure the file is not reported clean."""
+        if not any(d.is_error for d in self.diagnostics):
+            line = getattr(error, "line", 1) or 1
+            column = getattr(error, "column", 1) or 1
+            self._add("syntax-error", "cannot parse the mission past this point",
+                      Span.point(line, column), None)
+
+    # ---- typical mistakes ----
+    def _repair(self, parser, token: Token) -> bool:
+        substitute = _SUBSTITUTES.get(token.type)
+        if substitute and _accepts(parser, substitute, token):
+            parser.feed_token(Token.new_borrow_pos(substitute, token.value, token))
+            wanted, found = self._show(substitute), self._show(token.type)
+            hint = ("a parameter or field is set with 'NAME = VALUE'" if substitute == "EQUAL"
+                    else "a declaration names its type after ':' (task NAME: TYPE(...))")
+            self._add("wrong-token", f"expected {wanted} here, not {found}", _span(token), hint)
+            return True
+        for inserted in _INSERTIONS:
+            trial = parser.copy(deepcopy_values=False)
+            if not _feed_all(trial, inserted, token):
+                continue
+            kind = next((k for k in _interchangeable(token.type) if _accepts(trial, k, token)),
+                        None)
+            if kind is None:
+                continue
+            opened = _open_brace_line(parser) if inserted[0] == "RBRACE" else None
+            _feed_all(parser, inserted, token)
+            parser.feed_token(Token.new_borrow_pos(kind, token.value, token))
+            self._missing(inserted[0], token, opened)
+            return True
+        return False
+
+    def _missing(self, kind: str, token: Token, opened: int | None) -> None:
+        if kind == "_NL":
+            self._add("missing-token", f"expected a new line before {self._describe(token)}",
+                      _span(token), "write one statement per line")
+            return
+        what = self._show(kind)
+        message = f"missing {what} before {self._describe(token)}"
+        hints = {"_ARROW": "a transition is written 'when CONDITION -> STATE'",
+                 "EQUAL": "a parameter or field is set with 'NAME = VALUE'",
+                 "COLON": "a declaration names its type after ':' (task NAME: TYPE(...))"}
+        hint = hints.get(kind)
+        if opened is not None:
+            hint = f"the block opened at line {opened} is not closed"
+        self._add("missing-token", message, _span(token), hint)
+
+    # ---- generic errors ----
+    def _unexpected(self, parser, token: Token) -> None:
+        expected = sorted(self._show(k) for k in parser.accepts())
+        if token.type == "EQUAL" and "a comparison" in expected:
+            self._add("syntax-error", "'=' is not a comparison", _span(token),
+                      "compare with <, <=, > or >=")
+            return
+        shown = expected[:_GENERIC_HINT_LIMIT] + (["..."] if len(expected) > _GENERIC_HINT_LIMIT
+                                                  else [])
+        hint = "expected " + ", ".join(shown) if expected else None
+        self._add("syntax-error", f"unexpected {self._describe(token)}", _span(token), hint)
+
+    def _bad_character(self, error: UnexpectedCharacters) -> None:
+        if self._skip_line == error.line:
+            return
+        char = self.source.text[error.pos_in_stream:error.pos_in_stream + 1]
+        span = Span.point(error.line, error.column)
+        if char == '"':
+            self._add("unterminated-string", "unterminated string", span,
+                      "close the string with '\"' on the same line")
+        else:
+            self._add("bad-character", f"unexpected character {char!r}", span,
+                      "names are letters, digits and '_'; comments start with '#'")
+        self._skip_line = error.line
+
+    def _finish(self, parser, token: Token) -> None:
+        """At the end of the file: close open blocks (reporting it once) and stop."""
+        reported = False
+        for _ in range(10_000):
+            if _accepts(parser, "$END", token):
+                return
+            if _accepts(parser, "RBRACE", token):
+                if not reported:
+                    opened = _open_brace_line(parser)
+                    self._add("missing-token", "missing '}' at the end of the file",
+                              _end_span(self.source),
+                              f"the block opened at line {opened} is not closed"
+                              if opened else None)
+                    reported = True
+                parser.feed_token(Token.new_borrow_pos("RBRACE", "}", token))
+            elif _accepts(parser, "_NL", token):
+                parser.feed_token(Token.new_borrow_pos("_NL", "", token))
+            else:
+                if not reported:
+                    self._add("syntax-error", "unexpected end of the file",
+                              _end_span(self.source),
+                              "expected " + ", ".join(sorted(self._show(k)
+                                                             for k in parser.accepts())))
+                    reported = True
+                _pop(parser, 1)
+
+    def _resync(self, parser, token: Token) -> None:
+        """Pop the unfinished statement so that ``token`` (a newline or '}') fits."""
+        stack = parser.parser_state.value_stack
+        for depth in range(len(stack) + 1):
+            if depth and isinstance(getattr(stack[-depth], "data", None), str) \
+                    and stack[-depth].data in _COMPLETE:
+                break
+            trial = parser.copy(deepcopy_values=False)
+            _pop(trial, depth)
+            if _accepts(trial, token.type, token):
+                _pop(parser, depth)
+                parser.feed_token(token)
+                self._skip_line = None
+                return
+        if token.type == "_NL":
+            self._skip_line = None
+
+    # ---- wording ----
+    def _show(self, kind: str) -> str:
+        if kind in _NAMED:
+            return _NAMED[kind]
+        return repr(self._literals.get(kind, kind.lower()))
+
+    def _describe(self, token: Token) -> str:
+        if token.type == "_NL":
+            return "end of line"
+        if token.type in ("NAME", "UNIT"):
+            return f"name '{token.value}'"
+        if token.type == "NUMBER":
+            return f"number {token.value}"
+        if token.type == "STRING":
+            return f"string {token.value}"
+        return self._show(token.type)
+
+    def _add(self, code: str, message: str, span: Span, hint: str | None) -> None:
+        self.diagnostics.append(self.source.error(code, message, span, hint))
+
+
+def _span(token: Token) -> Span:
+    width = len(token.value) if token.type not in ("_NL", "$END") else 1
+    return Span.point(token.line or 1, token.column or 1, width)
+
+
+def _end_span(source: SourceFile) -> Span:
+    lines = source.text.splitlines() or [""]
+    number = max((i for i, line in enumerate(lines, 1) if line.strip()), default=1)
+    return Span.point(number, len(lines[number - 1].rstrip()) + 1)
+
+
+def _accepts(parser, kind: str, near: Token) -> bool:
+    trial = parser.copy(deepcopy_values=False)
+    try:
+        trial.feed_token(Token.new_borrow_pos(kind, "", near))
+    except UnexpectedInput:
+        return False
+    return True
+
+
+def _feed_all(parser, kinds: tuple[str, ...], near: Token) -> bool:
+    try:
+        for kind in kinds:
+            parser.feed_token(Token.new_borrow_pos(kind, "", near))
+    except UnexpectedInput:
+        return False
+    return True
+
+
+def _pop(parser, depth: int) -> None:
+    state = parser.parser_state
+    for _ in range(min(depth, len(state.value_stack))):
+        state.state_stack.pop()
+        state.value_stack.pop()
+
+
+def _open_brace_line(parser) -> int | None:
+    """The line of the innermost '{' still open on the parser's stack."""
+    for value in reversed(parser.parser_state.value_stack):
+        if isinstance(value, Token) and value.type == "LBRACE":
+            return value.line
+    return None

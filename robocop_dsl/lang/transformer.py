@@ -1,0 +1,208 @@
+"""Build the syntax tree from lark's parse tree. Only building: checks come later."""
+
+from __future__ import annotations
+
+from lark import Token, Transformer, v_args
+
+from ..diagnostics import Span
+from . import ast
+from .ast import NO_SPAN
+
+
+def token_span(token: Token) -> Span:
+    return Span(token.line, token.column, token.end_line, token.end_column)
+
+
+def meta_span(meta) -> Span:
+    if getattr(meta, "empty", True):
+        return NO_SPAN
+    return Span(meta.line, meta.column, meta.end_line, meta.end_column)
+
+
+def _name(token: Token) -> ast.Name:
+    return ast.Name(str(token), span=token_span(token))
+
+
+def _number(token: Token) -> float:
+    return float(token)
+
+
+_ESCAPES = {"n": "\n", "t": "\t"}
+
+
+def _string(token: Token) -> str:
+    """The text of a STRING token without quotes; ``\\n`` and ``\\t`` are escapes,
+    any other backslash keeps the character after it."""
+    text, out, index = str(token)[1:-1], [], 0
+    while index < len(text):
+        char = text[index]
+        if char == "\\" and index + 1 < len(text):
+            index += 1
+            char = _ESCAPES.get(text[index], text[index])
+        out.append(char)
+        index += 1
+    return "".join(out)
+
+
+def _tokens(children, kind: str) -> list[Token]:
+    return [c for c in children if isinstance(c, Token) and c.type == kind]
+
+
+def _nodes(children, kind) -> tuple:
+    return tuple(c for c in children if isinstance(c, kind))
+
+
+@v_args(meta=True)
+class MissionBuilder(Transformer):
+    """Turn a lark tree of ``mission.lark`` into :class:`ast.Mission`."""
+
+    def start(self, meta, children):
+        return ast.Mission(tuple(children), span=meta_span(meta))
+
+    # ---- declarations ----
+    def mission_header(self, meta, children):
+        strings = _tokens(children, "STRING")
+        return ast.MissionHeader(_name(children[0]), _string(strings[0]) if strings else None,
+                                 span=meta_span(meta))
+
+    def world_decl(self, meta, children):
+        return ast.WorldDecl(ast.String(_string(children[0]), span=token_span(children[0])),
+                             span=meta_span(meta))
+
+    def controller_decl(self, meta, children):
+        return ast.ControllerDecl(_name(children[0]), span=meta_span(meta))
+
+    def _declaration(self, node_type, meta, children):
+        names = _tokens(children, "NAME")
+        arguments = next((c for c in children if isinstance(c, tuple)), ())
+        parameters = next((c for c in children if isinstance(c, list)), [])
+        return node_type(_name(names[0]), _name(names[1]), arguments, tuple(parameters),
+                         span=meta_span(meta))
+
+    def task_decl(self, meta, children):
+        return self._declaration(ast.TaskDecl, meta, children)
+
+    def constraint_decl(self, meta, children):
+        return self._declaration(ast.ConstraintDecl, meta, children)
+
+    def start_decl(self, meta, children):
+        return ast.StartDecl(_name(children[0]), span=meta_span(meta))
+
+    def state_decl(self, meta, children):
+        parts = next((c for c in children if isinstance(c, list)), [])
+        return ast.StateDecl(_name(children[0]), tuple(parts), span=meta_span(meta))
+
+    def final_decl(self, meta, children):
+        names = _tokens(children, "NAME")
+        parts = next((c for c in children if isinstance(c, list)), [])
+        outcome = _name(names[1]) if len(names) > 1 else None
+        return ast.StateDecl(_name(names[0]), tuple(parts), final=True, outcome=outcome,
+                             span=meta_span(meta))
+
+    def guard(self, meta, children):
+        return ast.Transition(children[0], _name(children[1]), span=meta_span(meta))
+
+    def name_list(self, meta, children):
+        return tuple(_name(c) for c in children)
+
+    def param_block(self, meta, children):
+        return list(children)
+
+    def param(self, meta, children):
+        return ast.Parameter(_name(children[0]), children[1], span=meta_span(meta))
+
+    # ---- states ----
+    def state_body(self, meta, children):
+        return list(children)
+
+    def block_kind(self, meta, children):
+        return str(children[0])
+
+    def action_block(self, meta, children):
+        return ast.ActionBlock(children[0], tuple(children[1:]), span=meta_span(meta))
+
+    def clause(self, meta, children):
+        return ast.Transition(children[0], _name(children[1]), span=meta_span(meta))
+
+    # ---- actions ----
+    def enable(self, meta, children):
+        return ast.Enable(children[0], span=meta_span(meta))
+
+    def disable(self, meta, children):
+        return ast.Disable(children[0], span=meta_span(meta))
+
+    def reset(self, meta, children):
+        return ast.Reset(children[0], span=meta_span(meta))
+
+    def assign(self, meta, children):
+        return ast.Assign(_name(children[0]), _name(children[1]), children[2],
+                          span=meta_span(meta))
+
+    def attach(self, meta, children):
+        return ast.Attach(_name(children[0]), _name(children[1]), span=meta_span(meta))
+
+    def detach(self, meta, children):
+        return ast.Detach(_name(children[0]), span=meta_span(meta))
+
+    def emit(self, meta, children):
+        return ast.Emit(_name(children[0]), span=meta_span(meta))
+
+    def log(self, meta, children):
+        return ast.Log(_string(children[0]), span=meta_span(meta))
+
+    # ---- conditions ----
+    def disjunction(self, meta, children):
+        return ast.Or(tuple(children), span=meta_span(meta))
+
+    def conjunction(self, meta, children):
+        return ast.And(tuple(children), span=meta_span(meta))
+
+    def negation(self, meta, children):
+        return ast.Not(children[0], span=meta_span(meta))
+
+    def event(self, meta, children):
+        return ast.EventCondition(_name(children[0]), span=meta_span(meta))
+
+    def comparison(self, meta, children):
+        measure, operator, quantity = children
+        return ast.Comparison(measure, str(operator), quantity, span=meta_span(meta))
+
+    def elapsed(self, meta, children):
+        return ast.Elapsed(span=meta_span(meta))
+
+    def time(self, meta, children):
+        return ast.Time(span=meta_span(meta))
+
+    def distance(self, meta, children):
+        return ast.Distance(_name(children[0]), _name(children[1]), span=meta_span(meta))
+
+    def member(self, meta, children):
+        return ast.Member(_name(children[0]), _name(children[1]), span=meta_span(meta))
+
+    # ---- values ----
+    def quantity(self, meta, children):
+        units = _tokens(children, "UNIT")
+        return ast.Quantity(_number(children[0]), _name(units[0]) if units else None,
+                            span=meta_span(meta))
+
+    def vector(self, meta, children):
+        units = _tokens(children, "UNIT")
+        values = tuple(_number(t) for t in _tokens(children, "NUMBER"))
+        return ast.Vector(values, _name(units[0]) if units else None, span=meta_span(meta))
+
+    def offset(self, meta, children):
+        return ast.Offset(_name(children[0]), children[1], span=meta_span(meta))
+
+    def call(self, meta, children):
+        return ast.Call(_name(children[0]), _nodes(children[1:], ast.Argument),
+                        span=meta_span(meta))
+
+    def argument(self, meta, children):
+        name = _name(children[0]) if len(children) == 2 else None
+        return ast.Argument(name, children[-1], span=meta_span(meta))
+
+    def reference(self, meta, children):
+        return ast.Reference(_name(children[0]), span=meta_span(meta))
+
+    def string(self, meta, children):
+        return ast.String(_string(children[0]), span=meta_span(meta))

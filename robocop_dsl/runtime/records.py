@@ -1,0 +1,79 @@
+"""What a run hands its observers: one record per cycle and one per event."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class TaskView:
+    """An enabled task as drawn and logged.
+
+    ``kind`` is ``pose``, ``position``, ``orientation``, ``joint`` or ``velocity``.
+    ``target`` and ``reference`` (the interpolated target) are 4x4 homogeneous
+    matrices in the world frame for ``pose`` and ``orientation``, 3-vectors [m] for
+    ``position``, joint vectors [rad or m] for ``joint`` and velocity vectors for
+    ``velocity``. ``error`` is the norm of the task error [m or rad].
+    """
+
+    name: str
+    kind: str
+    body: str | None
+    error: float
+    target: np.ndarray
+    reference: np.ndarray
+
+
+@dataclass(frozen=True)
+class CycleRecord:
+    """One control cycle, as seen after the command was written (copies, safe to keep).
+
+    ``q`` is the whole world's configuration (pinocchio ``nq``); ``positions`` [rad or
+    m] and ``command`` [rad/s or m/s] are the controlled group's, in its joint order.
+    ``body_poses`` gives the 4x4 world pose of environment bodies moved by ``attach``.
+    Times are seconds.
+    """
+
+    cycle: int
+    time: float
+    state: str
+    q: np.ndarray
+    positions: np.ndarray
+    command: np.ndarray
+    solved: bool
+    tasks: tuple = ()
+    body_poses: dict = field(default_factory=dict)
+    compute_time: float = 0.0
+    cycle_time: float = 0.0
+
+
+@dataclass(frozen=True)
+class Event:
+    """Something that happened during a run: ``kind`` is one of ``transition``,
+    ``action``, ``qp_failure``, ``overrun``, ``fault``, ``event``, ``log``, ``end``."""
+
+    kind: str
+    time: float
+    cycle: int
+    data: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        return {"kind": self.kind, "time": self.time, "cycle": self.cycle, **self.data}
+
+
+class Observer:
+    """Watches a run without changing it; every hook is optional."""
+
+    def on_start(self, runner) -> None:
+        """Called once before the first cycle."""
+
+    def on_cycle(self, record: CycleRecord) -> None:
+        """Called after each cycle; must return quickly (copy, don't compute)."""
+
+    def on_event(self, event: Event) -> None:
+        """Called for each event as it happens."""
+
+    def on_stop(self, result) -> None:
+        """Called once when the run ends, whatever the reason."""

@@ -1,0 +1,35 @@
+"""What a run returns: its outcome, transitions and cycle statistics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class TransitionRecord:
+    """A transition taken at ``time`` [s] because ``condition`` held."""
+
+    time: float
+    source: str
+    target: str
+    condition: str
+
+
+@dataclass
+class RunResult:
+    """``outcome``: ``success`` or ``failure`` (the final state's), ``stopped`` (the
+    duration cap came first), ``fault`` (a run-time fault with no handler) or
+    ``interrupted`` (Ctrl-C). Times in seconds."""
+
+    outcome: str
+    final_state: str
+    mission_time: float
+    cycles: int
+    transitions: list = field(default_factory=list)
+    cycle_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    compute_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    qp_failures: int = 0
+    overruns: int = 0
+    message: str = ""

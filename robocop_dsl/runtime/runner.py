@@ -1,0 +1,271 @@
+"""The periodic loop that executes a mission (DESIGN "Semantics of one cycle"):
+
+1. read the driver, update the kinematics;
+2. test the active state's clauses, then the top-level guards; the first that holds
+   fires: the state's ``exit`` actions, then the next state's ``enter`` actions;
+3. run the active state's ``during`` actions;
+4. compute the QP command and write it to the driver; observers get a copy.
+
+``controller.failed`` is true in the cycle after a cycle whose QP had no solution or
+whose driver stopped answering. A fault that no clause handles ends the run with
+outcome ``fault``; whatever ends a run, the robot is left holding (zero velocity) and
+every observer's ``on_stop`` runs.
+"""
+
+from __future__ import annotations
+
+import time as clock
+
+import numpy as np
+
+from ..diagnostics import RobocopError
+from .program import Program
+from .records import CycleRecord, Event
+from .result import RunResult, TransitionRecord
+from .views import task_views
+
+
+class Runner:
+    """Runs a :class:`Program` with a controller, its kinematics and a driver.
+
+    Args:
+        program: The executable mission.
+        controller: A :class:`robocop_dsl.control.Controller`.
+        driver: An object with ``read() -> (q, v)``, ``write(velocity)`` and ``hold()``.
+        name: The mission's name, for reports.
+    """
+
+    def __init__(self, program: Program, controller, driver, name: str = "mission"):
+        self.program = program
+        self.controller = controller
+        self.kinematics = controller.kinematics
+        self.driver = driver
+        self.name = name
+        self.time_step = controller.time_step
+        self.joint_names = list(controller.group.joints)
+        self.observers: list = []
+        self.cycle = 0
+        self.failed = False
+        self.events_now: set = set()
+        self._pending_events: list = []
+        self._state = program.start
+        self._entered_at = 0.0
+        self._started = False
+        self._done: str | None = None
+        self._message = ""
+        self._driver_lost = False
+        self._attached: dict = {}
+        self._transitions: list = []
+        self._cycle_times: list = []
+        self._compute_times: list = []
+        self._qp_failures = 0
+        self._overruns = 0
+        self.q = None
+
+    def __repr__(self) -> str:
+        return f"Runner({self.name}, state={self._state}, t={self.time:.3f}s)"
+
+    @property
+    def state(self) -> str:
+        """The active state's name."""
+        return self._state
+
+    @property
+    def time(self) -> float:
+        """Mission time [s]."""
+        return self.cycle * self.time_step
+
+    @property
+    def elapsed(self) -> float:
+        """Time spent in the active state [s]."""
+        return self.time - self._entered_at
+
+    @property
+    def finished(self) -> bool:
+        return self._done is not None
+
+    def add_observer(self, observer) -> None:
+        self.observers.append(observer)
+
+    def emit(self, event: str) -> None:
+        """Raise ``event``; ``event NAME`` conditions see it in the next cycle."""
+        self._pending_events.append(event)
+        self._notify_event("event", {"name": event})
+
+    def log(self, text: str) -> None:
+        self._notify_event("log", {"message": text, "state": self._state})
+
+    def attach(self, body: str, parent: str) -> None:
+        """Make ``body`` move rigidly with ``parent`` from now on."""
+        self.kinematics.attach(body, parent)
+        self._attached[body] = self.kinematics.frame_id(body)
+        self._notify_event("action", {"action": "attach", "body": body, "to": parent})
+
+    def detach(self, body: str) -> None:
+        """Leave ``body`` fixed in the world where it is."""
+        self.kinematics.detach(body)
+        self._attached.pop(body, None)
+        self._notify_event("action", {"action": "detach", "body": body})
+
+    def _notify_event(self, kind: str, data: dict) -> None:
+        event = Event(kind, self.time, self.cycle, data)
+        for observer in self.observers:
+            observer.on_event(event)
+
+    def _start(self) -> None:
+        self._started = True
+        q, _ = self.driver.read()
+        self.q = q
+        self.kinematics.update(q)
+        for observer in self.observers:
+            observer.on_start(self)
+        self._notify_event("start", {"state": self._state})
+        self._enter(self._state)
+
+    def _enter(self, name: str) -> None:
+        self._state = name
+        self._entered_at = self.time
+        state = self.program.states[name]
+        for action in state.enter:
+            action(self)
+        if state.final:
+            self._finish(state.outcome, f"reached final state '{name}'")
+
+    def _finish(self, outcome: str, message: str) -> None:
+        if self._done is None:
+            self._done = outcome
+            self._message = message
+
+    def _read(self) -> None:
+        if self._driver_lost:
+            return
+        try:
+            self.q, _ = self.driver.read()
+        except RobocopError as error:
+            self._driver_fault(error)
+
+    def _driver_fault(self, error: Exception) -> None:
+        self._driver_lost = True
+        self.failed = True
+        self._notify_event("fault", {"message": f"driver: {error}", "state": self._state})
+
+    def _transition(self) -> None:
+        state = self.program.states[self._state]
+        for clause in state.clauses + self.program.guards:
+            if clause.test(self):
+                self._transitions.append(TransitionRecord(self.time, self._state, clause.target,
+                                                          clause.text))
+                self._notify_event("transition", {"from": self._state, "to": clause.target,
+                                                  "condition": clause.text})
+                for action in state.exit:
+                    action(self)
+                self._enter(clause.target)
+                return
+
+    def _unhandled_failure(self) -> bool:
+        return self.failed and not self.program.handles_failure(self._state)
+
+    def step(self) -> bool:
+        """Run one cycle; return ``False`` once the mission has ended."""
+        if not self._started:
+            self._start()
+        if self._done is not None:
+            return False
+        started = clock.perf_counter()
+        self._read()
+        self.kinematics.update(self.q)
+        self.events_now = set(self._pending_events)
+        self._pending_events.clear()
+        if self._unhandled_failure():
+            self._finish("fault", self._message or "run-time fault with no handler")
+        else:
+            self._transition()
+        if self._done is None:
+            for action in self.program.states[self._state].during:
+                action(self)
+        command, solved, compute_time = self._command()
+        self._write(command)
+        cycle_time = clock.perf_counter() - started
+        self._record(command, solved, compute_time, cycle_time)
+        self.cycle += 1
+        return self._done is None
+
+    def _command(self):
+        if self._done is not None or self._driver_lost:
+            return np.zeros(len(self.joint_names)), True, 0.0
+        result = self.controller.compute(self.q)
+        self.failed = not result.solved
+        if not result.solved:
+            self._qp_failures += 1
+            self._message = f"no QP solution in state '{self._state}': {result.message}"
+            self._notify_event("qp_failure", {"message": result.message, "state": self._state,
+                                              "repeat": self._qp_failures > 1})
+        return result.velocity, result.solved, result.compute_time
+
+    def _write(self, command: np.ndarray) -> None:
+        if self._driver_lost:
+            return
+        try:
+            if self._done is None:
+                self.driver.write(command)
+            else:
+                self.driver.hold()
+        except RobocopError as error:
+            self._driver_fault(error)
+
+    def _record(self, command, solved, compute_time, cycle_time) -> None:
+        self._cycle_times.append(cycle_time)
+        self._compute_times.append(compute_time)
+        if not self.observers:
+            return
+        bodies = {b: self.kinematics.pose(f).homogeneous.copy()
+                  for b, f in self._attached.items()}
+        record = CycleRecord(self.cycle, self.time, self._state, self.q.copy(),
+                             self.q[self.controller.group.q_indices],
+                             np.array(command, dtype=float), solved,
+                             task_views(self.controller), bodies, compute_time, cycle_time)
+        for observer in self.observers:
+            observer.on_cycle(record)
+
+    def run(self, duration: float | None = None, realtime: bool = False) -> RunResult:
+        """Run until a final state, a fault, ``duration`` [s] of mission time or Ctrl-C."""
+        wall_start = clock.perf_counter()
+        try:
+            while self.step():
+                if duration is not None and self.time >= duration - 1e-12:
+                    self._finish("stopped", f"duration of {duration:g} s reached")
+                    self._hold()
+                    break
+                if realtime:
+                    self._sleep_to(wall_start + self.cycle * self.time_step)
+        except KeyboardInterrupt:
+            self._finish("interrupted", "interrupted (Ctrl-C)")
+            self._hold()
+        return self._close()
+
+    def _sleep_to(self, deadline: float) -> None:
+        remaining = deadline - clock.perf_counter()
+        if remaining > 0:
+            clock.sleep(remaining)
+        elif -remaining > self.time_step:
+            self._overruns += 1
+            self._notify_event("overrun", {"message": f"cycle late by {-remaining * 1e3:.2f} ms",
+                                           "late": -remaining})
+
+    def _hold(self) -> None:
+        if not self._driver_lost:
+            try:
+                self.driver.hold()
+            except RobocopError as error:
+                self._driver_fault(error)
+
+    def _close(self) -> RunResult:
+        result = RunResult(self._done or "stopped", self._state, self.time, self.cycle,
+                           list(self._transitions), np.array(self._cycle_times),
+                           np.array(self._compute_times), self._qp_failures, self._overruns,
+                           self._message)
+        self._notify_event("end", {"outcome": result.outcome, "state": result.final_state,
+                                   "message": result.message})
+        for observer in self.observers:
+            observer.on_stop(result)
+        return result
