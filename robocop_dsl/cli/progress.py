@@ -59,7 +59,8 @@ class ProgressDisplay(Observer):
 
 def print_summary(result, stream) -> None:
     """Outcome, final state, transitions with times and conditions, cycle timings."""
-    console = Console(file=stream, highlight=False, soft_wrap=True)
+    console = Console(file=stream, highlight=False,
+                      width=None if stream.isatty() else 120)
     colour = {"success": "green", "failure": "red", "fault": "red"}.get(result.outcome, "yellow")
     console.print(f"outcome: [{colour}]{result.outcome}[/]  final state: {result.final_state}"
                   f"  mission time: {result.mission_time:.3f} s")

@@ -11,7 +11,10 @@ no solution, the command of the level above is kept.
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -22,8 +25,7 @@ FEASIBILITY_TOLERANCE = 1e-6
 """Largest constraint violation [command units] accepted from a solver."""
 
 
-@dataclass
-class Objective:
+class Objective(NamedTuple):
     """A task's contribution this cycle: minimise ``sum w (J dq - v)^2``."""
 
     name: str
@@ -32,7 +34,7 @@ class Objective:
     weight: np.ndarray
 
 
-@dataclass
+@dataclass(slots=True)
 class Bounds:
     """The enabled constraints: box bounds and rows ``l <= C dq <= u``."""
 
@@ -43,33 +45,32 @@ class Bounds:
     u: np.ndarray
 
 
-def level_problem(objectives: list[Objective], bounds: Bounds, damping: float,
+def level_problem(objectives: list[Objective], bounds: Bounds, regularisation: np.ndarray,
                   equalities: tuple[np.ndarray, np.ndarray]) -> QuadraticProgram:
-    """The QP of one level: weighted task residuals plus ``damping |dq|^2``."""
-    n = bounds.lower.shape[0]
-    H = np.eye(n) * (damping if objectives else 1.0)
-    g = np.zeros(n)
-    for objective in objectives:
-        weighted = objective.jacobian.T * objective.weight
-        H += weighted @ objective.jacobian
-        g -= weighted @ objective.velocity
+    """The QP of one level: weighted task residuals plus ``dq' regularisation dq``."""
     A, b = equalities
-    return QuadraticProgram(H, g, A, b, bounds.C, bounds.l, bounds.u, bounds.lower,
-                            bounds.upper)
-
-
-def residual(objectives: list[Objective], command: np.ndarray) -> float:
-    """Weighted residual norm of ``objectives`` at ``command``."""
-    total = 0.0
-    for objective in objectives:
-        error = objective.jacobian @ command - objective.velocity
-        total += float(error @ (objective.weight * error))
-    return float(np.sqrt(total))
+    if not objectives:
+        return QuadraticProgram(regularisation, np.zeros(regularisation.shape[0]), A, b,
+                                bounds.C, bounds.l, bounds.u, bounds.lower, bounds.upper)
+    if len(objectives) == 1:
+        _, jacobian, velocity, weight = objectives[0]
+    else:
+        jacobian = np.vstack([objective.jacobian for objective in objectives])
+        velocity = np.concatenate([objective.velocity for objective in objectives])
+        weight = np.concatenate([objective.weight for objective in objectives])
+    weighted = jacobian.T * weight
+    return QuadraticProgram(weighted @ jacobian + regularisation, -(weighted @ velocity), A, b,
+                            bounds.C, bounds.l, bounds.u, bounds.lower, bounds.upper)
 
 
 def solve_levels(levels: list[tuple[int, list[Objective]]], bounds: Bounds,
-                 solvers: list[QPSolver], damping: float):
+                 solvers: list[QPSolver], regularisation: np.ndarray):
     """Solve the levels in order.
+
+    A level with no task minimises ``|dq|^2`` alone (the smallest feasible command);
+    the others add ``dq' regularisation dq`` to their tasks' residual. Solutions of
+    backends that do not guarantee their tolerance are checked against the
+    constraints (:data:`FEASIBILITY_TOLERANCE`).
 
     Returns:
         ``(command, level_results, problems)``; ``command`` is ``None`` when the first
@@ -80,17 +81,18 @@ def solve_levels(levels: list[tuple[int, list[Objective]]], bounds: Bounds,
     statuses: list[tuple[bool, str]] = []
     problems: list[QuadraticProgram] = []
     kept_rows: list[np.ndarray] = []
+    equalities = (np.zeros((0, n)), np.zeros(0))
     for (priority, objectives), solver in zip(levels, solvers):
         if kept_rows:
             A = np.vstack(kept_rows)
             equalities = (A, A @ command)
-        else:
-            equalities = (np.zeros((0, n)), np.zeros(0))
-        problem = level_problem(objectives, bounds, damping, equalities)
+        problem = level_problem(objectives, bounds,
+                                regularisation if objectives else np.eye(n), equalities)
         problems.append(problem)
         solution = solver.solve(problem)
-        solved = (solution.found and bool(np.isfinite(solution.x).all())
-                  and problem.violation(solution.x) <= FEASIBILITY_TOLERANCE)
+        solved = solution.found and math.isfinite(solution.x @ solution.x)
+        if solved and not solver.guarantees_tolerance:
+            solved = problem.violation(solution.x) <= FEASIBILITY_TOLERANCE
         statuses.append((solved, solution.status))
         if not solved:
             break
@@ -101,6 +103,6 @@ def solve_levels(levels: list[tuple[int, list[Objective]]], bounds: Bounds,
     results = []
     for index, (priority, objectives) in enumerate(levels):
         solved, status = statuses[index] if index < len(statuses) else (False, "not run")
-        results.append(LevelResult(priority, tuple(o.name for o in objectives), solved,
-                                   residual(objectives, command), status))
+        results.append(LevelResult(priority, tuple([o.name for o in objectives]), solved,
+                                   status, tuple(objectives), command))
     return command, tuple(results), problems

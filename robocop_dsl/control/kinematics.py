@@ -1,9 +1,9 @@
 """Forward kinematics of a world, computed once per state and shared by its readers.
 
-A :class:`Kinematics` owns the ``pin.Data`` of a world's model. ``update(q)`` marks a
-new state; poses and Jacobians are computed on first request and cached until the
-next state, so every task and constraint of a cycle shares one forward-kinematics and
-one joint-Jacobians pass. The runtime can share the object with the controller
+A :class:`Kinematics` owns the ``pin.Data`` of a world's model. ``update(q)`` runs one
+forward-kinematics and joint-Jacobians pass for a new state; frame poses and Jacobians
+are read from it on first request and cached until the next state, so every task and
+constraint of a cycle shares that pass. The runtime can share the object with the controller
 (``Controller(..., kinematics=...)``) to read distances from the same pass.
 
 Bodies attached at run time: :meth:`Kinematics.attach` re-places a fixed frame (and
@@ -35,22 +35,22 @@ class Kinematics:
         self.model: pin.Model = world.model
         self.data: pin.Data = self.model.createData()
         self.q: np.ndarray | None = None
+        self._key = b""
         self.stamp = 0
         self._poses: dict[int, pin.SE3] = {}
         self._jacobians: dict[int, np.ndarray] = {}
-        self._joint_jacobians = False
 
     def update(self, q: np.ndarray) -> bool:
-        """Make ``q`` (nq) the current state; returns ``False`` if it already was."""
-        if self.q is not None and np.array_equal(q, self.q):
+        """Make ``q`` (nq float array) the current state; ``False`` if it already was."""
+        key = q.tobytes()
+        if key == self._key:
             return False
+        self._key = key
         self.q = np.array(q, dtype=float)
         self.stamp += 1
         self._poses.clear()
         self._jacobians.clear()
-        self._joint_jacobians = False
         pin.computeJointJacobians(self.model, self.data, self.q)
-        self._joint_jacobians = True
         return True
 
     def frame_id(self, body: str) -> int:
@@ -127,6 +127,7 @@ class Kinematics:
         frames[body_id].parentJoint = parent_frame.parentJoint
         frames[body_id].parentFrame = parent_id
         self.q = None
+        self._key = b""
 
     def _subtree(self, frame_id: int) -> list[int]:
         frames = self.model.frames

@@ -7,30 +7,41 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class LevelResult:
-    """One priority level of a cycle.
+    """One priority level of a cycle (treat as read-only).
 
     Attributes:
         priority: The level's priority (0 the highest; 0 for the weighted QP).
         tasks: Names of the level's tasks.
         solved: Whether the level's QP was solved (a lower level that fails keeps the
             command of the levels above).
-        residual: ``sqrt(sum w (J dq - v)^2)`` of the level's tasks at the final
-            command [task units/s].
         status: The solver's status.
+        objectives: The level's task objectives (``Objective``) of the cycle.
+        command: The final command of the cycle.
     """
 
     priority: int
     tasks: tuple[str, ...]
     solved: bool
-    residual: float
     status: str = ""
+    objectives: tuple = field(default=(), repr=False, compare=False)
+    command: np.ndarray | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def residual(self) -> float:
+        """``sqrt(sum w (J dq - v)^2)`` over the level's tasks at the final command
+        [task units/s] (computed on access)."""
+        total = 0.0
+        for objective in self.objectives:
+            error = objective.jacobian @ self.command - objective.velocity
+            total += float(error @ (objective.weight * error))
+        return float(np.sqrt(total))
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class Timings:
-    """Durations of the parts of a cycle [s]."""
+    """Durations of the parts of a cycle [s] (treat as read-only)."""
 
     kinematics: float = 0.0
     tasks: float = 0.0
@@ -39,9 +50,9 @@ class Timings:
     total: float = 0.0
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class ControlResult:
-    """The command of one cycle.
+    """The command of one cycle (treat as read-only).
 
     Attributes:
         velocity: Joint-velocity command of the controlled group [rad/s or m/s], in the

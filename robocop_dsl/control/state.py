@@ -10,6 +10,13 @@ from .kinematics import Kinematics
 from .spatial import relative_jacobian
 
 
+def resolve_group(world, name: str):
+    """The joint group (or single joint seen as a group) ``name`` of ``world``."""
+    if not world.has_group(name) and name not in world.joint_names():
+        raise UnknownName("joint group", name, world.group_names() + world.joint_names())
+    return world.joint_group(name)
+
+
 class ControlState:
     """What tasks and constraints read during a cycle.
 
@@ -34,6 +41,8 @@ class ControlState:
         self.q_indices = np.asarray(group.q_indices, dtype=int)
         self.velocity = np.zeros(self.dofs)
         self.previous_command = np.zeros(self.dofs)
+        self.revision = 0
+        """Bumped whenever the QP's structure may change (enabling, priorities...)."""
         self._jacobians: dict[tuple[int, int], np.ndarray] = {}
         self._stamp = -1
 
@@ -53,11 +62,7 @@ class ControlState:
 
     def group_columns(self, name: str) -> tuple[object, np.ndarray]:
         """A joint group of the world and the columns of its joints in the command."""
-        try:
-            group = self.world.joint_group(name)
-        except Exception as error:
-            names = getattr(self.world, "joint_group_names", lambda: [])()
-            raise UnknownName("joint group", name, names) from error
+        group = resolve_group(self.world, name)
         position = {int(v): i for i, v in enumerate(self.v_indices)}
         outside = [joint for joint, v in zip(group.joints, group.v_indices)
                    if int(v) not in position]

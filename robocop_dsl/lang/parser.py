@@ -18,59 +18,47 @@ from lark.lark import PostLex
 from ..diagnostics import Diagnostic, SourceFile, Span
 from ..resources import GRAMMAR_DIR
 from . import ast
-from .syntax_errors import KEYWORDS, Recovery
+from .syntax_errors import RESERVED, Recovery
 from .transformer import MissionBuilder
 
-_OPENING = {"LSQB": "[", "LPAR": "("}
-_CLOSING = {"RSQB", "RPAR"}
+_BREAKABLE_AFTER = ("COMMA", "LPAR", "LSQB")
+_OPERATORS = ("AND", "OR", "NOT")
 
 
 class StatementBreaks(PostLex):
-    """Drop newlines inside ``[]`` and ``()``, merge repeated ones, end the file with one.
+    """Drop newlines inside ``[]`` and ``()``, merge repeated ones, end the file with one,
+    and give reserved words their keyword type wherever they appear.
 
-    A newline inside brackets is kept (and the brackets forgotten) when the next token
-    cannot continue them, so a missing ``]`` does not swallow the following lines.
+    A line may break after ``and``, ``or`` and ``not``, and inside brackets after ``(``,
+    ``[`` or ``,``; any other newline ends the statement and forgets the brackets, so a
+    missing ``]`` does not swallow the following lines.
     """
 
     always_accept = ("_NL",)
 
     def process(self, stream):
-        brackets: list[str] = []
-        held: Token | None = None
+        brackets = 0
         last: Token | None = None
         for token in stream:
-            if held is not None:
-                if not self._continues(last, token, brackets[-1]):
-                    brackets.clear()
-                    last = held
-                    yield held
-                held = None
+            if token.type in ("NAME", "UNIT") and token.value in RESERVED:
+                token = Token.new_borrow_pos(token.value.upper(), token.value, token)
             if token.type == "_NL":
-                if brackets:
-                    held = token
+                if last is not None and (last.type in _OPERATORS or
+                                         (brackets and last.type in _BREAKABLE_AFTER)):
                     continue
+                brackets = 0
                 if last is not None and last.type == "_NL":
                     continue
-            elif token.type in _OPENING:
-                brackets.append(_OPENING[token.type])
-            elif token.type in _CLOSING and brackets:
-                brackets.pop()
+            elif token.type in ("LSQB", "LPAR"):
+                brackets += 1
+            elif token.type in ("RSQB", "RPAR"):
+                brackets = max(brackets - 1, 0)
             elif token.type in ("LBRACE", "RBRACE"):
-                brackets.clear()
+                brackets = 0
             last = token
             yield token
         if last is not None and last.type != "_NL":
             yield Token.new_borrow_pos("_NL", "", last)
-
-    @staticmethod
-    def _continues(last: Token | None, token: Token, bracket: str) -> bool:
-        """Whether a line break between ``last`` and ``token`` is inside the brackets."""
-        if token.type == "NAME" and token.value in KEYWORDS:
-            return False
-        if token.type in ("COMMA", "RPAR", "RSQB"):
-            return True
-        after_separator = last is not None and last.type in ("COMMA", "LPAR", "LSQB")
-        return after_separator or (bracket == "[" and token.type == "NUMBER")
 
 
 @functools.lru_cache(maxsize=None)
@@ -100,7 +88,7 @@ def parse_mission(text: str, path: str | Path = "<mission>") -> ParseResult:
     recovery = Recovery(source, mission_grammar())
     try:
         tree = mission_grammar().parse(text, on_error=recovery)
-        mission = MissionBuilder().transform(tree)
+        mission = MissionBuilder(text).transform(tree)
     except (LarkError, VisitError) as error:
         recovery.give_up(error)
         mission = ast.Mission(span=Span.point(1))

@@ -9,15 +9,17 @@ of the statement and pops the parser back to where the statement began.
 
 from __future__ import annotations
 
-from lark import Lark, Token
+from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from ..diagnostics import Diagnostic, SourceFile, Span
 
-KEYWORDS = frozenset({
-    "mission", "controller", "constraint", "task", "start", "state", "final", "when",
-    "enter", "during", "exit", "enable", "disable", "reset", "attach", "detach", "emit",
-    "log"})
+# Words that start a statement are reserved everywhere, so that a misplaced one reads as
+# itself ("unexpected 'when'") rather than as a name. The others (``world`` and
+# ``controller`` among them) stay usable as names.
+RESERVED = frozenset({
+    "mission", "constraint", "task", "start", "state", "final", "when", "enter", "during",
+    "exit", "enable", "disable", "reset", "attach", "detach", "emit", "log"})
 
 _SUBSTITUTES = {"COLON": "EQUAL", "EQUAL": "COLON"}
 _INSERTIONS = (("_ARROW",), ("RBRACE",), ("RPAR",), ("RSQB",), ("EQUAL",), ("COLON",),
@@ -91,7 +93,7 @@ class Recovery:
             self._add("wrong-token", f"expected {wanted} here, not {found}", _span(token), hint)
             return True
         for inserted in _INSERTIONS:
-            trial = parser.copy(deepcopy_values=False)
+            trial = _trial(parser)
             if not _feed_all(trial, inserted, token):
                 continue
             kind = next((k for k in _interchangeable(token.type) if _accepts(trial, k, token)),
@@ -102,6 +104,11 @@ class Recovery:
             _feed_all(parser, inserted, token)
             parser.feed_token(Token.new_borrow_pos(kind, token.value, token))
             self._missing(inserted[0], token, opened)
+            return True
+        if token.value in RESERVED and _accepts(parser, "NAME", token):
+            parser.feed_token(Token.new_borrow_pos("NAME", token.value, token))
+            self._add("reserved-word", f"'{token.value}' is a reserved word, not a name",
+                      _span(token), "choose another name")
             return True
         return False
 
@@ -172,13 +179,16 @@ class Recovery:
                 _pop(parser, 1)
 
     def _resync(self, parser, token: Token) -> None:
-        """Pop the unfinished statement so that ``token`` (a newline or '}') fits."""
+        """Pop the unfinished statement so that ``token`` (a newline or '}') fits.
+
+        Parsed statements are never popped; when the token fits nowhere above them it
+        is dropped, and a newline still ends the unfinished statement.
+        """
         stack = parser.parser_state.value_stack
-        for depth in range(len(stack) + 1):
-            if depth and isinstance(getattr(stack[-depth], "data", None), str) \
-                    and stack[-depth].data in _COMPLETE:
-                break
-            trial = parser.copy(deepcopy_values=False)
+        unfinished = next((depth for depth in range(len(stack))
+                           if _is_parsed_statement(stack[-1 - depth])), len(stack))
+        for depth in range(unfinished + 1):
+            trial = _trial(parser)
             _pop(trial, depth)
             if _accepts(trial, token.type, token):
                 _pop(parser, depth)
@@ -186,6 +196,7 @@ class Recovery:
                 self._skip_line = None
                 return
         if token.type == "_NL":
+            _pop(parser, unfinished)
             self._skip_line = None
 
     # ---- wording ----
@@ -220,8 +231,22 @@ def _end_span(source: SourceFile) -> Span:
     return Span.point(number, len(lines[number - 1].rstrip()) + 1)
 
 
-def _accepts(parser, kind: str, near: Token) -> bool:
+def _trial(parser):
+    """A copy of ``parser`` to try tokens on.
+
+    Reductions may append to the children of the trees on the value stack (lark reuses
+    them for left recursion), so those trees are copied, one level deep: cheaper than the
+    deep copy of ``parser.copy()`` and as safe for the stack's own values.
+    """
     trial = parser.copy(deepcopy_values=False)
+    state = trial.parser_state
+    state.value_stack = [Tree(v.data, list(v.children), meta=v._meta)
+                         if isinstance(v, Tree) else v for v in state.value_stack]
+    return trial
+
+
+def _accepts(parser, kind: str, near: Token) -> bool:
+    trial = _trial(parser)
     try:
         trial.feed_token(Token.new_borrow_pos(kind, "", near))
     except UnexpectedInput:
@@ -236,6 +261,15 @@ def _feed_all(parser, kinds: tuple[str, ...], near: Token) -> bool:
     except UnexpectedInput:
         return False
     return True
+
+
+def _is_parsed_statement(value) -> bool:
+    """A statement (or a run of them) that parsed: recovery keeps it."""
+    data = getattr(value, "data", None)
+    if data is None:
+        return False
+    return data in _COMPLETE or any(getattr(c, "data", None) in _COMPLETE
+                                    for c in value.children)
 
 
 def _pop(parser, depth: int) -> None:

@@ -13,10 +13,33 @@ def token_span(token: Token) -> Span:
     return Span(token.line, token.column, token.end_line, token.end_column)
 
 
-def meta_span(meta) -> Span:
+def _code_end(line: str) -> int:
+    """Length of ``line`` without a trailing comment and trailing blanks."""
+    quoted = False
+    for index, char in enumerate(line):
+        if char == '"' and (index == 0 or line[index - 1] != "\\"):
+            quoted = not quoted
+        elif char == "#" and not quoted:
+            return len(line[:index].rstrip())
+    return len(line.rstrip())
+
+
+def trimmed_span(text: str, meta) -> Span:
+    """The span of a rule without the line breaks, blank lines and comments that end it."""
     if getattr(meta, "empty", True):
         return NO_SPAN
-    return Span(meta.line, meta.column, meta.end_line, meta.end_column)
+    end = meta.end_pos
+    while True:
+        line_start = text.rfind("\n", meta.start_pos, end) + 1 or meta.start_pos
+        line_start = max(line_start, meta.start_pos)
+        code = _code_end(text[line_start:end])
+        if code or line_start == meta.start_pos:
+            end = line_start + code
+            break
+        end = line_start - 1
+    end_line = meta.line + text.count("\n", meta.start_pos, end)
+    end_column = end - (text.rfind("\n", 0, end) + 1) + 1
+    return Span(meta.line, meta.column, end_line, end_column)
 
 
 def _name(token: Token) -> ast.Name:
@@ -54,30 +77,37 @@ def _nodes(children, kind) -> tuple:
 
 @v_args(meta=True)
 class MissionBuilder(Transformer):
-    """Turn a lark tree of ``mission.lark`` into :class:`ast.Mission`."""
+    """Turn a lark tree of ``mission.lark`` for ``text`` into :class:`ast.Mission`."""
+
+    def __init__(self, text: str):
+        super().__init__()
+        self._text = text
+
+    def _span(self, meta) -> Span:
+        return trimmed_span(self._text, meta)
 
     def start(self, meta, children):
-        return ast.Mission(tuple(children), span=meta_span(meta))
+        return ast.Mission(tuple(children), span=self._span(meta))
 
     # ---- declarations ----
     def mission_header(self, meta, children):
         strings = _tokens(children, "STRING")
         return ast.MissionHeader(_name(children[0]), _string(strings[0]) if strings else None,
-                                 span=meta_span(meta))
+                                 span=self._span(meta))
 
     def world_decl(self, meta, children):
         return ast.WorldDecl(ast.String(_string(children[0]), span=token_span(children[0])),
-                             span=meta_span(meta))
+                             span=self._span(meta))
 
     def controller_decl(self, meta, children):
-        return ast.ControllerDecl(_name(children[0]), span=meta_span(meta))
+        return ast.ControllerDecl(_name(children[0]), span=self._span(meta))
 
     def _declaration(self, node_type, meta, children):
         names = _tokens(children, "NAME")
         arguments = next((c for c in children if isinstance(c, tuple)), ())
         parameters = next((c for c in children if isinstance(c, list)), [])
         return node_type(_name(names[0]), _name(names[1]), arguments, tuple(parameters),
-                         span=meta_span(meta))
+                         span=self._span(meta))
 
     def task_decl(self, meta, children):
         return self._declaration(ast.TaskDecl, meta, children)
@@ -86,21 +116,21 @@ class MissionBuilder(Transformer):
         return self._declaration(ast.ConstraintDecl, meta, children)
 
     def start_decl(self, meta, children):
-        return ast.StartDecl(_name(children[0]), span=meta_span(meta))
+        return ast.StartDecl(_name(children[0]), span=self._span(meta))
 
     def state_decl(self, meta, children):
         parts = next((c for c in children if isinstance(c, list)), [])
-        return ast.StateDecl(_name(children[0]), tuple(parts), span=meta_span(meta))
+        return ast.StateDecl(_name(children[0]), tuple(parts), span=self._span(meta))
 
     def final_decl(self, meta, children):
         names = _tokens(children, "NAME")
         parts = next((c for c in children if isinstance(c, list)), [])
         outcome = _name(names[1]) if len(names) > 1 else None
         return ast.StateDecl(_name(names[0]), tuple(parts), final=True, outcome=outcome,
-                             span=meta_span(meta))
+                             span=self._span(meta))
 
     def guard(self, meta, children):
-        return ast.Transition(children[0], _name(children[1]), span=meta_span(meta))
+        return ast.Transition(children[0], _name(children[1]), span=self._span(meta))
 
     def name_list(self, meta, children):
         return tuple(_name(c) for c in children)
@@ -109,7 +139,7 @@ class MissionBuilder(Transformer):
         return list(children)
 
     def param(self, meta, children):
-        return ast.Parameter(_name(children[0]), children[1], span=meta_span(meta))
+        return ast.Parameter(_name(children[0]), children[1], span=self._span(meta))
 
     # ---- states ----
     def state_body(self, meta, children):
@@ -119,90 +149,90 @@ class MissionBuilder(Transformer):
         return str(children[0])
 
     def action_block(self, meta, children):
-        return ast.ActionBlock(children[0], tuple(children[1:]), span=meta_span(meta))
+        return ast.ActionBlock(children[0], tuple(children[1:]), span=self._span(meta))
 
     def clause(self, meta, children):
-        return ast.Transition(children[0], _name(children[1]), span=meta_span(meta))
+        return ast.Transition(children[0], _name(children[1]), span=self._span(meta))
 
     # ---- actions ----
     def enable(self, meta, children):
-        return ast.Enable(children[0], span=meta_span(meta))
+        return ast.Enable(children[0], span=self._span(meta))
 
     def disable(self, meta, children):
-        return ast.Disable(children[0], span=meta_span(meta))
+        return ast.Disable(children[0], span=self._span(meta))
 
     def reset(self, meta, children):
-        return ast.Reset(children[0], span=meta_span(meta))
+        return ast.Reset(children[0], span=self._span(meta))
 
     def assign(self, meta, children):
         return ast.Assign(_name(children[0]), _name(children[1]), children[2],
-                          span=meta_span(meta))
+                          span=self._span(meta))
 
     def attach(self, meta, children):
-        return ast.Attach(_name(children[0]), _name(children[1]), span=meta_span(meta))
+        return ast.Attach(_name(children[0]), _name(children[1]), span=self._span(meta))
 
     def detach(self, meta, children):
-        return ast.Detach(_name(children[0]), span=meta_span(meta))
+        return ast.Detach(_name(children[0]), span=self._span(meta))
 
     def emit(self, meta, children):
-        return ast.Emit(_name(children[0]), span=meta_span(meta))
+        return ast.Emit(_name(children[0]), span=self._span(meta))
 
     def log(self, meta, children):
-        return ast.Log(_string(children[0]), span=meta_span(meta))
+        return ast.Log(_string(children[0]), span=self._span(meta))
 
     # ---- conditions ----
     def disjunction(self, meta, children):
-        return ast.Or(tuple(children), span=meta_span(meta))
+        return ast.Or(tuple(children), span=self._span(meta))
 
     def conjunction(self, meta, children):
-        return ast.And(tuple(children), span=meta_span(meta))
+        return ast.And(tuple(children), span=self._span(meta))
 
     def negation(self, meta, children):
-        return ast.Not(children[0], span=meta_span(meta))
+        return ast.Not(children[0], span=self._span(meta))
 
     def event(self, meta, children):
-        return ast.EventCondition(_name(children[0]), span=meta_span(meta))
+        return ast.EventCondition(_name(children[0]), span=self._span(meta))
 
     def comparison(self, meta, children):
         measure, operator, quantity = children
-        return ast.Comparison(measure, str(operator), quantity, span=meta_span(meta))
+        return ast.Comparison(measure, str(operator), quantity, span=self._span(meta))
 
     def elapsed(self, meta, children):
-        return ast.Elapsed(span=meta_span(meta))
+        return ast.Elapsed(span=self._span(meta))
 
     def time(self, meta, children):
-        return ast.Time(span=meta_span(meta))
+        return ast.Time(span=self._span(meta))
 
     def distance(self, meta, children):
-        return ast.Distance(_name(children[0]), _name(children[1]), span=meta_span(meta))
+        return ast.Distance(_name(children[0]), _name(children[1]), span=self._span(meta))
 
     def member(self, meta, children):
-        return ast.Member(_name(children[0]), _name(children[1]), span=meta_span(meta))
+        return ast.Member(_name(children[0]), _name(children[1]), span=self._span(meta))
 
     # ---- values ----
     def quantity(self, meta, children):
         units = _tokens(children, "UNIT")
         return ast.Quantity(_number(children[0]), _name(units[0]) if units else None,
-                            span=meta_span(meta))
+                            span=self._span(meta))
 
     def vector(self, meta, children):
         units = _tokens(children, "UNIT")
         values = tuple(_number(t) for t in _tokens(children, "NUMBER"))
-        return ast.Vector(values, _name(units[0]) if units else None, span=meta_span(meta))
+        return ast.Vector(values, _name(units[0]) if units else None, span=self._span(meta))
 
     def offset(self, meta, children):
-        return ast.Offset(_name(children[0]), children[1], span=meta_span(meta))
+        return ast.Offset(_name(children[0]), children[1], span=self._span(meta))
 
     def call(self, meta, children):
         return ast.Call(_name(children[0]), _nodes(children[1:], ast.Argument),
-                        span=meta_span(meta))
+                        span=self._span(meta))
 
     def argument(self, meta, children):
         name = _name(children[0]) if len(children) == 2 else None
-        return ast.Argument(name, children[-1], span=meta_span(meta))
+        return ast.Argument(name, children[-1], span=self._span(meta))
 
     def reference(self, meta, children):
-        return ast.Reference(_name(children[0]), span=meta_span(meta))
+        return ast.Reference(_name(children[0]), span=self._span(meta))
 
     def string(self, meta, children):
-        return ast.String(_string(children[0]), span=meta_span(meta))
+        return ast.String(_string(children[0]), span=self._span(meta))

@@ -42,7 +42,7 @@ class Runner:
         self.driver = driver
         self.name = name
         self.time_step = controller.time_step
-        self.joint_names = list(controller.group.joints)
+        self.joint_names = list(controller.joint_group.joints)
         self.observers: list = []
         self.cycle = 0
         self.failed = False
@@ -72,8 +72,8 @@ class Runner:
 
     @property
     def time(self) -> float:
-        """Mission time [s]."""
-        return self.cycle * self.time_step
+        """Mission time [s] (rounded to the nanosecond)."""
+        return round(self.cycle * self.time_step, 9)
 
     @property
     def elapsed(self) -> float:
@@ -197,10 +197,10 @@ class Runner:
         self.failed = not result.solved
         if not result.solved:
             self._qp_failures += 1
-            self._message = f"no QP solution in state '{self._state}': {result.message}"
-            self._notify_event("qp_failure", {"message": result.message, "state": self._state,
+            self._message = f"no QP solution in state '{self._state}': {result.reason}"
+            self._notify_event("qp_failure", {"message": result.reason, "state": self._state,
                                               "repeat": self._qp_failures > 1})
-        return result.velocity, result.solved, result.compute_time
+        return result.velocity, result.solved, result.timings.total
 
     def _write(self, command: np.ndarray) -> None:
         if self._driver_lost:
@@ -221,7 +221,7 @@ class Runner:
         bodies = {b: self.kinematics.pose(f).homogeneous.copy()
                   for b, f in self._attached.items()}
         record = CycleRecord(self.cycle, self.time, self._state, self.q.copy(),
-                             self.q[self.controller.group.q_indices],
+                             self.q[self.controller.joint_group.q_indices],
                              np.array(command, dtype=float), solved,
                              task_views(self.controller), bodies, compute_time, cycle_time)
         for observer in self.observers:

@@ -111,6 +111,15 @@ class World:
             v_idx.extend(range(joint.idx_v, joint.idx_v + joint.nv))
         return np.array(q_idx, dtype=int), np.array(v_idx, dtype=int)
 
+    def copy(self) -> "World":
+        """A world sharing this one's description but owning a copy of the model, so
+        that moving or attaching bodies in one never affects the other."""
+        import pinocchio as pin
+
+        twin = World(self.path, self._assembly, self.processors)
+        twin.model = pin.Model(self.model)
+        return twin
+
     @cached_property
     def model(self):
         """The pinocchio model of the whole world (mimic joints kept as mimics)."""

@@ -27,7 +27,8 @@ class Constraint(ABC):
     def __init__(self, name: str, state: ControlState):
         self.name = name
         self.state = state
-        self.enabled = True
+        self._enabled = True
+        state.revision += 1
 
     @property
     @abstractmethod
@@ -41,6 +42,16 @@ class Constraint(ABC):
     @abstractmethod
     def compute_bounds(self, state: ControlState) -> tuple[np.ndarray, np.ndarray]:
         """Hook: lower and upper bounds of the rows (``inf`` where unbounded)."""
+
+    @property
+    def enabled(self) -> bool:
+        """Whether the constraint holds."""
+        return self._enabled
+
+    @enabled.setter
+    def enabled(self, value: bool) -> None:
+        self._enabled = bool(value)
+        self.state.revision += 1
 
     def enable(self) -> None:
         """Enable: the constraint holds from the next cycle."""

@@ -62,6 +62,7 @@ class BodyVelocityConstraint(Constraint):
         setattr(self, f"_{name}", float(limit[0]) if scalar else limit)
         setattr(self, f"_{name}_rows", self._shape(limit, scalar))
         self._selection = None
+        self.state.revision += 1
 
     @property
     def max_linear(self):

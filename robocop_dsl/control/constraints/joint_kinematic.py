@@ -9,6 +9,9 @@ from ..parameters import vector_parameter
 from ..state import ControlState
 from .base import Constraint
 
+BRAKING_SHARE = 0.5
+"""Share of ``max_acceleration`` used to plan braking before a position limit."""
+
 
 class JointKinematicConstraint(Constraint):
     """Joint limits of a group turned into bounds on the next velocity command.
@@ -17,9 +20,9 @@ class JointKinematicConstraint(Constraint):
 
     - velocity: ``|dq| <= max_velocity``;
     - acceleration: ``|dq - prev| <= max_acceleration * dt``;
-    - position: ``dq`` no larger than the speed from which the joint can still stop
-      before ``max_position`` braking at ``max_acceleration`` in steps of ``dt`` (and
-      at least ``(max_position - q) / dt``), and likewise towards ``min_position``.
+    - position: ``dq`` at most ``(max_position - q) / dt`` and at most the speed from
+      which the joint can still stop before ``max_position`` braking at half of
+      ``max_acceleration`` in steps of ``dt``; likewise towards ``min_position``.
 
     A joint outside its position range is driven back as fast as its velocity limit
     allows. When the acceleration bound conflicts with the others (e.g. after the
@@ -42,7 +45,8 @@ class JointKinematicConstraint(Constraint):
                  max_position=None, max_velocity=None, max_acceleration=None):
         super().__init__(name, state)
         self.group, self.box_columns = state.group_columns(group)
-        self._positions = state.q_indices[self.box_columns]
+        self._group_positions = state.q_indices[self.box_columns]
+        self._time_step = None
         self._jacobian = np.eye(state.dofs)[self.box_columns]
         group_ = self.group
         self.min_position = group_.lower if min_position is None else min_position
@@ -64,6 +68,7 @@ class JointKinematicConstraint(Constraint):
     @min_position.setter
     def min_position(self, value) -> None:
         self._min_position = self._vector("min_position", value)
+        self._time_step = None
 
     @property
     def max_position(self) -> np.ndarray:
@@ -73,6 +78,7 @@ class JointKinematicConstraint(Constraint):
     @max_position.setter
     def max_position(self, value) -> None:
         self._max_position = self._vector("max_position", value)
+        self._time_step = None
 
     @property
     def max_velocity(self) -> np.ndarray:
@@ -82,6 +88,7 @@ class JointKinematicConstraint(Constraint):
     @max_velocity.setter
     def max_velocity(self, value) -> None:
         self._max_velocity = self._vector("max_velocity", value, minimum=0.0)
+        self._time_step = None
 
     @property
     def max_acceleration(self) -> np.ndarray:
@@ -91,6 +98,7 @@ class JointKinematicConstraint(Constraint):
     @max_acceleration.setter
     def max_acceleration(self, value) -> None:
         self._max_acceleration = self._vector("max_acceleration", value, minimum=0.0)
+        self._time_step = None
 
     @property
     def rows(self) -> int:
@@ -101,34 +109,55 @@ class JointKinematicConstraint(Constraint):
 
     def compute_bounds(self, state: ControlState) -> tuple[np.ndarray, np.ndarray]:
         dt = state.time_step
-        q = state.q[self._positions]
-        speed = self._max_velocity
-        upper = np.minimum(speed, self._position_speed(self._max_position - q, dt))
-        lower = np.maximum(-speed, -self._position_speed(q - self._min_position, dt))
-        upper = np.maximum(upper, -speed)
-        lower = np.minimum(lower, speed)
+        if dt != self._time_step:
+            self._prepare(dt)
+        # Upper bounds first, then the negated lower bounds: one vector for both sides.
+        distance = self._limits - self._signs * state.q[self._positions]
+        reach = distance * (1.0 / dt)
+        if self._braking is not None:
+            two_a, half_step, finite = self._braking
+            braking = np.maximum(np.sqrt(np.maximum(distance, 0.0) * two_a) - half_step, 0.0)
+            if finite is not None:
+                braking[~finite] = np.inf
+            reach = np.minimum(reach, braking)
+        speed = self._speed
+        reach = np.minimum(np.maximum(reach, -speed), speed)
         previous = state.previous_command[self.box_columns]
-        step = self._max_acceleration * dt
-        accelerated_lower = np.maximum(lower, previous - step)
-        accelerated_upper = np.minimum(upper, previous + step)
-        conflict = accelerated_lower > accelerated_upper
+        bound = np.minimum(reach, np.concatenate((previous, -previous)) + self._steps)
+        count = self._count
+        upper, lower = bound[:count], -bound[count:]
+        conflict = lower > upper
         if conflict.any():
-            closest = np.clip(previous, lower, upper)
-            accelerated_lower[conflict] = closest[conflict]
-            accelerated_upper[conflict] = closest[conflict]
-        return accelerated_lower, accelerated_upper
+            closest = np.clip(previous, -reach[count:], reach[:count])
+            lower[conflict] = upper[conflict] = closest[conflict]
+        return lower, upper
 
-    def _position_speed(self, distance: np.ndarray, dt: float) -> np.ndarray:
-        """Largest speed towards a limit ``distance`` away that can still stop before it."""
-        acceleration = self._max_acceleration
-        speed = distance / dt
-        braking = np.isfinite(acceleration) & (distance > 0.0)
-        if braking.any():
-            step = acceleration[braking] * dt
-            steps = distance[braking] / (step * dt)
-            whole = np.floor((np.sqrt(1.0 + 8.0 * steps) - 1.0) / 2.0)
-            speed[braking] = step * (steps / (whole + 1.0) + whole / 2.0)
-        return speed
+    def _prepare(self, dt: float) -> None:
+        """Precompute stacked limits and the braking terms ``2 a`` and ``a dt / 2``.
+
+        Braking at ``a`` in steps of ``dt`` from speed ``v`` covers at most
+        ``v^2 / 2a + v dt / 2 + a dt^2 / 8``, so the speed towards a limit ``d`` away
+        is bounded by ``max(sqrt(2 a d) - a dt / 2, 0)``; this bound stays feasible
+        from one cycle to the next under the acceleration limit. ``a`` is
+        :data:`BRAKING_SHARE` of ``max_acceleration``, so a braking joint keeps some
+        freedom for the other constraints.
+        """
+        count = len(self.box_columns)
+        acceleration = np.tile(self._max_acceleration, 2)
+        finite = np.isfinite(acceleration)
+        self._time_step = dt
+        self._count = count
+        self._positions = np.tile(self._group_positions, 2)
+        self._signs = np.concatenate((np.ones(count), -np.ones(count)))
+        self._limits = np.concatenate((self._max_position, -self._min_position))
+        self._speed = np.tile(self._max_velocity, 2)
+        self._steps = acceleration * dt
+        if not finite.any():
+            self._braking = None
+            return
+        acceleration = np.where(finite, acceleration, 0.0) * BRAKING_SHARE
+        self._braking = (2.0 * acceleration, 0.5 * dt * acceleration,
+                         None if finite.all() else finite)
 
     def parameters(self) -> dict:
         return {"min_position": self._min_position, "max_position": self._max_position,

@@ -23,6 +23,8 @@ class Interpolator(ABC):
     """
 
     kind = "interpolator"
+    passthrough = False
+    """Whether the reference is the target itself (the task then skips stepping)."""
 
     def __init__(self):
         self.dimension = 0

@@ -11,6 +11,7 @@ class NoInterpolator(Interpolator):
     """Passes the target through; finished at once."""
 
     kind = "none"
+    passthrough = True
 
     def start(self) -> None:
         """Nothing to plan."""

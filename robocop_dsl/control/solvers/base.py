@@ -10,12 +10,13 @@ import numpy as np
 from ..exceptions import InvalidParameter
 
 
-@dataclass
+@dataclass(slots=True)
 class QuadraticProgram:
     """``min 1/2 x'Hx + g'x  s.t.  Ax = b,  l <= Cx <= u,  lower <= x <= upper``.
 
     ``x`` is the joint-velocity command of the controlled group. Bounds may be
-    infinite. Shapes are checked at construction.
+    infinite. The controller builds consistent shapes; :meth:`validate` checks a
+    program built by hand.
     """
 
     H: np.ndarray
@@ -28,14 +29,22 @@ class QuadraticProgram:
     lower: np.ndarray
     upper: np.ndarray
 
-    def __post_init__(self):
-        n = self.g.shape[0]
-        expected = {"H": (n, n), "A": (self.b.shape[0], n), "C": (self.l.shape[0], n),
-                    "u": self.l.shape, "lower": (n,), "upper": (n,)}
-        for name, shape in expected.items():
-            if getattr(self, name).shape != shape:
-                raise InvalidParameter("quadratic program", name, getattr(self, name).shape,
-                                       f"shape {shape}")
+    def validate(self) -> "QuadraticProgram":
+        """Check the shapes; returns the program.
+
+        Raises:
+            InvalidParameter: naming the first array with a wrong shape.
+        """
+        n, n_eq, n_in = self.g.shape[0], self.b.shape[0], self.l.shape[0]
+        shapes = (self.H.shape, self.A.shape, self.C.shape, self.u.shape, self.lower.shape,
+                  self.upper.shape)
+        expected = ((n, n), (n_eq, n), (n_in, n), (n_in,), (n,), (n,))
+        if shapes != expected:
+            names = ("H", "A", "C", "u", "lower", "upper")
+            name, shape, wanted = next(item for item in zip(names, shapes, expected)
+                                       if item[1] != item[2])
+            raise InvalidParameter("quadratic program", name, shape, f"shape {wanted}")
+        return self
 
     @property
     def size(self) -> tuple[int, int, int]:
@@ -55,7 +64,7 @@ class QuadraticProgram:
         return worst
 
 
-@dataclass
+@dataclass(slots=True)
 class QPSolution:
     """A solver's answer.
 
@@ -76,6 +85,8 @@ class QPSolver(ABC):
     """A QP backend behind one signature; instances may keep state between cycles."""
 
     name = "solver"
+    guarantees_tolerance = False
+    """Whether a reported solution is known to meet the constraints to tolerance."""
 
     @abstractmethod
     def solve(self, problem: QuadraticProgram) -> QPSolution:

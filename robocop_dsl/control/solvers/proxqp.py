@@ -17,13 +17,18 @@ class ProxqpSolver(QPSolver):
     Args:
         eps_abs: Absolute tolerance on primal and dual residuals.
         max_iter: Iteration limit (reaching it is a failure).
+        eps_infeasible: Threshold of ProxQP's primal infeasibility certificate; the
+            default 1e-4 flags feasible problems of this scale as infeasible.
     """
 
     name = "proxqp"
+    guarantees_tolerance = True
 
-    def __init__(self, eps_abs: float = 1e-9, max_iter: int = 1000):
+    def __init__(self, eps_abs: float = 1e-9, max_iter: int = 1000,
+                 eps_infeasible: float = 1e-12):
         self.eps_abs = eps_abs
         self.max_iter = max_iter
+        self.eps_infeasible = eps_infeasible
         self._qp = None
         self._size: tuple[int, int, int] | None = None
 
@@ -32,29 +37,38 @@ class ProxqpSolver(QPSolver):
         self._size = None
 
     def solve(self, problem: QuadraticProgram) -> QPSolution:
+        """Solve warm-started; a warm failure is retried once from a cold start (a warm
+        start can make ProxQP report a feasible problem infeasible)."""
+        warm = problem.size == self._size
+        solution = self._solve(problem, warm)
+        if not solution.found and warm:
+            solution = self._solve(problem, False)
+        return solution
+
+    def _solve(self, problem: QuadraticProgram, warm: bool) -> QPSolution:
         n, n_eq, n_in = size = problem.size
         args = (problem.H, problem.g, problem.A if n_eq else None, problem.b if n_eq else None,
                 problem.C if n_in else None, problem.l if n_in else None,
                 problem.u if n_in else None, problem.lower, problem.upper)
         try:
-            if size != self._size:
+            if warm:
+                qp = self._qp
+                qp.update(*args)
+            else:
                 qp = proxsuite.proxqp.dense.QP(n, n_eq, n_in, True)
                 qp.settings.eps_abs = self.eps_abs
                 qp.settings.eps_rel = 0.0
                 qp.settings.max_iter = self.max_iter
-                qp.settings.initial_guess = _WARM
+                qp.settings.eps_primal_inf = self.eps_infeasible
                 qp.init(*args)
                 self._qp, self._size = qp, size
-            else:
-                qp = self._qp
-                qp.update(*args)
             qp.solve()
+            qp.settings.initial_guess = _WARM
         except (RuntimeError, ValueError) as error:
             self.reset()
             return QPSolution(False, np.zeros(n), status=f"error: {error}")
         info = qp.results.info
-        found = info.status == _SOLVED
-        if not found:
-            self.reset()
-        return QPSolution(found, qp.results.x.copy() if found else np.zeros(n), info.iter,
-                          info.status.name)
+        if info.status == _SOLVED:
+            return QPSolution(True, qp.results.x.copy(), info.iter, "solved")
+        self.reset()
+        return QPSolution(False, np.zeros(n), info.iter, info.status.name)

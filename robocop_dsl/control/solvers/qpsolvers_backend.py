@@ -23,7 +23,7 @@ class QpsolversSolver(QPSolver):
         self.options = options
 
     def solve(self, problem: QuadraticProgram) -> QPSolution:
-        n = problem.size[0]
+        n = problem.validate().size[0]
         upper_rows = np.isfinite(problem.u)
         lower_rows = np.isfinite(problem.l)
         G = np.vstack((problem.C[upper_rows], -problem.C[lower_rows]))

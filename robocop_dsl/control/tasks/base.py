@@ -49,7 +49,7 @@ class Task(ABC):
         self.name = name
         self.state = state
         self.dimension = dimension
-        self.enabled = False
+        self._enabled = False
         self._restart = True
         self._held = None
         self._chart = VectorChart()
@@ -91,14 +91,19 @@ class Task(ABC):
         value = self.compute_value(state)
         if self._restart:
             self._start(state, jacobian, value)
-        chart = self._chart
         interpolator = self._interpolator
-        interpolator.target = chart.to_vector(self._goal(state, value))
-        position, rate = interpolator.step()
-        reference = chart.from_vector(position)
+        goal = self._goal(state, value)
+        if interpolator.passthrough:
+            reference = goal
+            feedforward = goal if self.order else 0.0
+        else:
+            chart = self._chart
+            interpolator.target = chart.to_vector(goal)
+            position, rate = interpolator.step()
+            reference = chart.from_vector(position)
+            feedforward = chart.velocity(position, rate) if self.order == 0 else position
         self._reference = reference
         error = self.compute_error(state, reference)
-        feedforward = chart.velocity(position, rate) if self.order == 0 else position
         return jacobian, feedforward + self._feedback.compute(error)
 
     def _start(self, state: ControlState, jacobian: np.ndarray, value) -> None:
@@ -141,15 +146,30 @@ class Task(ABC):
         if not isinstance(value, (Current, BodyTarget)):
             value = self.convert_target(value)
         self._target = value
+        self._finite = self._check_finite(value)
         self._restart = True
+
+    @staticmethod
+    def _check_finite(target) -> bool:
+        if isinstance(target, (Current, BodyTarget)):
+            return True
+        return bool(np.isfinite(getattr(target, "homogeneous", target)).all())
 
     def target_is_finite(self) -> bool:
         """Whether the target holds no NaN or infinite number."""
-        target = self._target
-        if isinstance(target, (Current, BodyTarget)):
-            return True
-        matrix = getattr(target, "homogeneous", target)
-        return bool(np.isfinite(matrix).all())
+        return self._finite
+
+    @property
+    def enabled(self) -> bool:
+        """Whether the controller uses the task; enabling restarts its interpolator."""
+        return self._enabled
+
+    @enabled.setter
+    def enabled(self, value: bool) -> None:
+        if value and not self._enabled:
+            self._restart = True
+        self._enabled = bool(value)
+        self.state.revision += 1
 
     def enable(self) -> None:
         """Enable; the interpolator restarts from the current state at the next cycle."""
@@ -216,6 +236,7 @@ class Task(ABC):
     @priority.setter
     def priority(self, value: int) -> None:
         self._priority = integer_parameter(self.label, "priority", value)
+        self.state.revision += 1
 
     @property
     def reference_value(self):
@@ -225,7 +246,7 @@ class Task(ABC):
     @property
     def reached(self) -> bool:
         """Whether the task is enabled and its interpolator has finished."""
-        return self.enabled and not self._restart and self._interpolator.finished
+        return self._enabled and not self._restart and self._interpolator.finished
 
     def error_vector(self) -> np.ndarray:
         """Error from the current state to the target (NaN before any state)."""

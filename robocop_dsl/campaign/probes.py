@@ -1,0 +1,77 @@
+"""Observers a campaign adds to every run: what the results table reports about the
+run, and the job's wall-time budget."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..diagnostics import RobocopError
+from ..runtime.records import Observer
+
+
+class BudgetExceeded(RobocopError):
+    """A job ran past its wall-time budget.
+
+    Attributes:
+        budget: The budget [s].
+    """
+
+    def __init__(self, budget: float):
+        self.budget = budget
+        super().__init__(f"ran past its time budget of {budget:g} s")
+
+
+class Budget(Observer):
+    """Stops a run, by raising :class:`BudgetExceeded` from a cycle, once the wall time
+    since ``started`` (a ``time.perf_counter()`` reading) exceeds ``seconds``."""
+
+    def __init__(self, seconds: float | None, started: float):
+        self.seconds = seconds
+        self.deadline = math.inf if seconds is None else started + seconds
+
+    def check(self) -> None:
+        if time.perf_counter() > self.deadline:
+            raise BudgetExceeded(self.seconds)
+
+    def on_cycle(self, record) -> None:
+        self.check()
+
+
+class Probe(Observer):
+    """Follows a run for the results table: the smallest joint-limit margin over the run
+    and the largest task error in its last cycle."""
+
+    def __init__(self):
+        self.margin = math.inf
+        self.limit_joint = ""
+        self.cycles = 0
+        self.tasks: tuple = ()
+        self._lower = self._upper = None
+        self._names: list = []
+
+    def on_start(self, runner) -> None:
+        group = runner.controller.group
+        self._lower, self._upper = np.asarray(group.lower), np.asarray(group.upper)
+        self._names = list(runner.joint_names)
+
+    def on_cycle(self, record) -> None:
+        margins = np.minimum(record.positions - self._lower, self._upper - record.positions)
+        if margins.size:
+            index = int(np.argmin(margins))
+            if margins[index] < self.margin:
+                self.margin = float(margins[index])
+                self.limit_joint = self._names[index]
+        self.tasks = record.tasks
+        self.cycles += 1
+
+    def fields(self) -> dict:
+        """``worst_task_error`` [m or rad] (NaN when no task was enabled at the end),
+        ``min_limit_margin`` [rad or m] (NaN before the first cycle, inf without limits)
+        and ``limit_joint``, the joint that came closest."""
+        errors = [task.error for task in self.tasks]
+        return {"worst_task_error": float(max(errors)) if errors else math.nan,
+                "min_limit_margin": self.margin if self.cycles else math.nan,
+                "limit_joint": self.limit_joint}

@@ -1,0 +1,141 @@
+"""Conditions of ``when`` clauses: known names, flags versus measures, units."""
+
+from __future__ import annotations
+
+from ..lang import ast
+from ..lang.catalogue import (JOINT_SPACE, JOINT_VELOCITY_SPACE, ORIENTATION_SPACE,
+                              POSE_SPACE, POSITION, POSITION_SPACE, TWIST_SPACE, VELOCITY)
+from ..lang.units import ANGLE, ANGULAR_VELOCITY, LENGTH, LINEAR_VELOCITY, TIME
+from .context import CheckContext
+from .declarations import subject_of
+from .parameters import check_body
+from .values import check_quantity, space_dimensions
+
+CONTROLLER = "controller"
+TASK_FLAGS = ("reached",)
+CONTROLLER_FLAGS = ("failed",)
+TASK_MEASURES = ("error", "position_error", "orientation_error")
+_MEASURES_BY_SPACE = {
+    JOINT_SPACE: ("error",), JOINT_VELOCITY_SPACE: ("error",), TWIST_SPACE: ("error",),
+    POSITION_SPACE: ("error", "position_error"),
+    ORIENTATION_SPACE: ("error", "orientation_error"),
+    POSE_SPACE: TASK_MEASURES,
+}
+
+
+def check_condition(ctx: CheckContext, condition: ast.Condition) -> None:
+    """Report every problem in ``condition``."""
+    if isinstance(condition, (ast.And, ast.Or)):
+        for operand in condition.operands:
+            check_condition(ctx, operand)
+    elif isinstance(condition, ast.Not):
+        check_condition(ctx, condition.operand)
+    elif isinstance(condition, ast.EventCondition):
+        if condition.event.text not in ctx.symbols.events:
+            ctx.unknown("unknown-event", "event", condition.event, ctx.symbols.events,
+                        f"no action emits it: add 'emit {condition.event.text}' to a state")
+    elif isinstance(condition, ast.Comparison):
+        dimensions = measure_dimensions(ctx, condition.measure)
+        if dimensions is not None:
+            check_quantity(ctx, condition.quantity, dimensions,
+                           f"'{_measure_text(condition.measure)}'")
+    else:
+        _check_flag(ctx, condition)
+
+
+def _measure_text(measure: ast.Measure) -> str:
+    if isinstance(measure, ast.Member):
+        return f"{measure.owner.text}.{measure.field.text}"
+    if isinstance(measure, ast.Distance):
+        return "distance"
+    return "elapsed" if isinstance(measure, ast.Elapsed) else "time"
+
+
+def _owner(ctx: CheckContext, member: ast.Member):
+    """The task a member belongs to; ``None`` after reporting when it is not one."""
+    name = member.owner.text
+    if name in ctx.symbols.tasks:
+        return ctx.symbols.tasks[name]
+    if name in ctx.symbols.constraints:
+        ctx.error("wrong-kind", f"'{name}' is a constraint: it has no '{member.field.text}'",
+                  member.owner.span, "conditions read tasks (X.reached, X.error) "
+                  "and controller.failed")
+        return None
+    ctx.unknown("unknown-task", "task", member.owner,
+                list(ctx.symbols.tasks) + [CONTROLLER])
+    return None
+
+
+def _check_flag(ctx: CheckContext, member: ast.Member) -> None:
+    field = member.field.text
+    if member.owner.text == CONTROLLER:
+        if field not in CONTROLLER_FLAGS:
+            ctx.unknown("unknown-field", "field", member.field, CONTROLLER_FLAGS,
+                        "the controller has: failed", where=" of the controller")
+        return
+    if _owner(ctx, member) is None:
+        return
+    if field in TASK_MEASURES:
+        ctx.error("wrong-condition", f"'{member.owner.text}.{field}' is a measure, "
+                  "not true or false", member.span,
+                  f"compare it: {member.owner.text}.{field} < 1 mm")
+    elif field not in TASK_FLAGS:
+        ctx.unknown("unknown-field", "field", member.field, TASK_FLAGS + TASK_MEASURES,
+                    "tasks have: reached, error, position_error, orientation_error",
+                    where=f" of task '{member.owner.text}'")
+
+
+def measure_dimensions(ctx: CheckContext, measure: ast.Measure) -> tuple[str, ...] | None:
+    """What a measure may be compared with; ``None`` after reporting a bad measure."""
+    if isinstance(measure, (ast.Elapsed, ast.Time)):
+        return (TIME,)
+    if isinstance(measure, ast.Distance):
+        known = [check_body(ctx, name) for name in (measure.first, measure.second)]
+        return (LENGTH,) if all(known) else None
+    field = measure.field.text
+    if measure.owner.text == CONTROLLER or field in TASK_FLAGS:
+        if measure.owner.text == CONTROLLER and field not in CONTROLLER_FLAGS:
+            ctx.unknown("unknown-field", "field", measure.field, CONTROLLER_FLAGS,
+                        "the controller has: failed", where=" of the controller")
+            return None
+        ctx.error("wrong-condition", f"'{measure.owner.text}.{field}' is true or false, "
+                  "it cannot be compared", measure.span,
+                  f"use it alone: when {measure.owner.text}.{field} -> ...")
+        return None
+    task = _owner(ctx, measure)
+    if task is None:
+        return None
+    subject = subject_of(ctx, task)
+    if field not in TASK_MEASURES:
+        ctx.unknown("unknown-field", "field", measure.field, TASK_FLAGS + TASK_MEASURES,
+                    "tasks have: reached, error, position_error, orientation_error",
+                    where=f" of task '{measure.owner.text}'")
+        return None
+    if subject is None:
+        return None
+    allowed = _MEASURES_BY_SPACE.get(subject.space, ("error",))
+    if field not in allowed:
+        ctx.error("unknown-field", f"a {subject.kind.name} task has no '{field}'",
+                  measure.field.span, "it has: reached, " + ", ".join(allowed))
+        return None
+    if field == "position_error":
+        return (LENGTH,)
+    if field == "orientation_error":
+        return (ANGLE,)
+    if subject.space == TWIST_SPACE:
+        return (LINEAR_VELOCITY, ANGULAR_VELOCITY)
+    symbol = VELOCITY if subject.space == JOINT_VELOCITY_SPACE else POSITION
+    return space_dimensions(symbol, subject.space, subject.joints)
+
+
+def tasks_read(condition: ast.Condition) -> list[ast.Name]:
+    """Task names a condition reads (``X.reached``, ``X.error``...), in order."""
+    if isinstance(condition, (ast.And, ast.Or)):
+        return [n for operand in condition.operands for n in tasks_read(operand)]
+    if isinstance(condition, ast.Not):
+        return tasks_read(condition.operand)
+    if isinstance(condition, ast.Comparison):
+        condition = condition.measure
+    if isinstance(condition, ast.Member) and condition.owner.text != CONTROLLER:
+        return [condition.owner]
+    return []

@@ -1,0 +1,133 @@
+"""What every check needs: the source to quote, the world's names, the mission's symbols.
+
+:class:`WorldNames` answers the questions checks ask of a world (bodies, joint groups,
+limits, controllers) and answers "unknown" for everything when the world did not load,
+so the mission's own checks still run.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..diagnostics import Diagnostic, SourceFile, Span, did_you_mean
+from ..lang import ast
+from ..lang.units import ANGLE, LENGTH
+
+_ROTATIONAL = ("revolute", "continuous")
+
+
+@dataclass(frozen=True)
+class Joints:
+    """A joint group (or a single joint) as checks see it; limits in SI."""
+
+    name: str
+    dofs: int
+    lower: tuple[float, ...]
+    upper: tuple[float, ...]
+    max_velocity: tuple[float, ...]
+    joint_types: tuple[str, ...]
+
+    @property
+    def position_dimensions(self) -> tuple[str, ...]:
+        """Dimensions a position of these joints may be written in."""
+        moving = [t for t in self.joint_types if t not in ("fixed", "mimic")]
+        if moving and all(t in _ROTATIONAL for t in moving):
+            return (ANGLE,)
+        if moving and all(t == "prismatic" for t in moving):
+            return (LENGTH,)
+        return (ANGLE, LENGTH)
+
+
+class WorldNames:
+    """A world's names and limits, or nothing known when ``world`` is ``None``."""
+
+    def __init__(self, world=None):
+        self.world = world
+
+    @property
+    def known(self) -> bool:
+        return self.world is not None
+
+    def body_names(self) -> list[str]:
+        return list(self.world.body_names()) if self.world else []
+
+    def has_body(self, name: str) -> bool:
+        return self.world is None or self.world.has_body(name)
+
+    def joint_names(self) -> list[str]:
+        if self.world is None:
+            return []
+        return list(self.world.group_names()) + list(self.world.joint_names())
+
+    def joints(self, name: str) -> Joints | None:
+        """The joint group or joint ``name``; ``None`` when unknown or no world."""
+        if self.world is None:
+            return None
+        if self.world.has_group(name):
+            group = self.world.joint_group(name)
+            types = tuple(self.world.joint(j).type for j in group.joints)
+            return Joints(name, group.dofs, _floats(group.lower), _floats(group.upper),
+                          _floats(group.max_velocity), types)
+        if name in self.world.joint_names():
+            joint = self.world.joint(name)
+            return Joints(name, joint.dofs, _floats(joint.lower), _floats(joint.upper),
+                          _floats(joint.max_velocity), (joint.type,))
+        return None
+
+    def has_joints(self, name: str) -> bool:
+        return self.world is None or self.joints(name) is not None
+
+    def controller_names(self) -> list[str]:
+        return list(self.world.controller_names()) if self.world else []
+
+
+def _floats(values) -> tuple[float, ...]:
+    return tuple(float(v) for v in values)
+
+
+@dataclass
+class Symbols:
+    """The mission's own names, first declaration of each."""
+
+    tasks: dict[str, ast.TaskDecl] = field(default_factory=dict)
+    constraints: dict[str, ast.ConstraintDecl] = field(default_factory=dict)
+    states: dict[str, ast.StateDecl] = field(default_factory=dict)
+    events: set[str] = field(default_factory=set)
+
+    def controlled(self) -> list[str]:
+        """Names that ``enable``/``disable`` accept."""
+        return list(self.tasks) + list(self.constraints)
+
+
+class CheckContext:
+    """Collects diagnostics for one mission file."""
+
+    def __init__(self, source: SourceFile, world=None):
+        self.source = source
+        self.world = WorldNames(world)
+        self.symbols = Symbols()
+        self.diagnostics: list[Diagnostic] = []
+
+    def error(self, code: str, message: str, span: Span | None, hint: str | None = None):
+        self.diagnostics.append(self.source.error(code, message, _located(span), hint))
+
+    def warning(self, code: str, message: str, span: Span | None, hint: str | None = None):
+        self.diagnostics.append(self.source.warning(code, message, _located(span), hint))
+
+    def unknown(self, code: str, what: str, name: ast.Name, candidates, extra: str = "",
+                where: str = ""):
+        """``unknown body 'x'`` (then ``where``) with a "did you mean" among
+        ``candidates``, else the ``extra`` hint."""
+        hint = did_you_mean(name.text, candidates) or extra or None
+        self.error(code, f"unknown {what} '{name.text}'{where}", name.span, hint)
+
+
+def _located(span: Span | None) -> Span | None:
+    if span is None or span.line <= 0:
+        return None
+    return span
+
+
+def finite(value: float) -> bool:
+    return math.isfinite(value)

@@ -1,0 +1,133 @@
+"""Top-level declarations: one header, one world, the controller, tasks and constraints."""
+
+from __future__ import annotations
+
+from ..diagnostics import Span
+from ..lang import ast
+from ..lang.catalogue import CONSTRAINTS, JOINT_GROUP, TASKS, Registry
+from .context import CheckContext
+from .parameters import Subject, check_body, check_parameters
+
+_SINGLE = ((ast.MissionHeader, "mission header"), (ast.WorldDecl, "world"),
+           (ast.ControllerDecl, "controller"), (ast.StartDecl, "start"))
+
+
+def collect_symbols(ctx: CheckContext, mission: ast.Mission) -> None:
+    """Record tasks, constraints, states and emitted events; report duplicate names."""
+    symbols = ctx.symbols
+    for decl in mission.tasks + mission.constraints:
+        first = symbols.tasks.get(decl.name.text) or symbols.constraints.get(decl.name.text)
+        if first is not None:
+            _duplicate(ctx, "task or constraint", decl.name, first.name)
+            continue
+        table = symbols.tasks if isinstance(decl, ast.TaskDecl) else symbols.constraints
+        table[decl.name.text] = decl
+    for state in mission.states:
+        first = symbols.states.get(state.name.text)
+        if first is not None:
+            _duplicate(ctx, "state", state.name, first.name)
+            continue
+        symbols.states[state.name.text] = state
+        for block in state.blocks:
+            symbols.events.update(a.event.text for a in block.actions
+                                  if isinstance(a, ast.Emit))
+
+
+def _duplicate(ctx: CheckContext, what: str, name: ast.Name, first: ast.Name) -> None:
+    ctx.error("duplicate-name", f"{what} '{name.text}' is already declared", name.span,
+              f"first declared at line {first.span.line}")
+
+
+def check_header(ctx: CheckContext, mission: ast.Mission) -> None:
+    """One mission header, world, controller and start at most; a header and a world."""
+    for node_type, what in _SINGLE:
+        items = mission.of_type(node_type)
+        for extra in items[1:]:
+            ctx.error("duplicate-declaration", f"a second {what} declaration", extra.span,
+                      f"the first is at line {items[0].span.line}")
+    if mission.first(ast.MissionHeader) is None:
+        ctx.error("missing-declaration", "the file does not start with a mission header",
+                  _first_line(mission), "begin with: mission NAME \"what it does\"")
+    if mission.first(ast.WorldDecl) is None:
+        ctx.error("missing-declaration", "the mission names no world", _first_line(mission),
+                  "add: world \"FILE.yaml\" (relative to the mission, then the robots path)")
+    if not mission.states:
+        ctx.error("missing-declaration", "the mission declares no state",
+                  _first_line(mission), "add: state NAME { ... } and a final state")
+
+
+def _first_line(mission: ast.Mission) -> Span:
+    """Where a missing declaration is reported: the start of the first item."""
+    first = mission.items[0].span if mission.items else None
+    line = first.line if first is not None and first.line > 0 else 1
+    return Span.point(line)
+
+
+def check_controller(ctx: CheckContext, mission: ast.Mission) -> None:
+    """The named controller is a qp_controller of the world, or the world has one."""
+    if not ctx.world.known:
+        return
+    names = ctx.world.controller_names()
+    declared = mission.first(ast.ControllerDecl)
+    if declared is not None:
+        if declared.name.text not in names:
+            processors = ctx.world.world.processors
+            extra = (f"'{declared.name.text}' is a {processors[declared.name.text].type} "
+                     "processor, not a qp_controller"
+                     if declared.name.text in processors else
+                     "controllers: " + (", ".join(names) or "none"))
+            ctx.unknown("unknown-controller", "controller", declared.name, names, extra)
+        return
+    world = mission.first(ast.WorldDecl)
+    span = world.path.span if world else None
+    if not names:
+        ctx.error("missing-controller", "the world has no qp_controller processor", span,
+                  "add one under processors: in the world file")
+    elif len(names) > 1:
+        ctx.error("missing-controller", "the world has several controllers: "
+                  + ", ".join(names), span, "choose one with: controller NAME")
+
+
+def check_declarations(ctx: CheckContext, mission: ast.Mission) -> None:
+    """Types, arguments and parameters of every task and constraint."""
+    for decl in mission.tasks:
+        _check_declaration(ctx, decl, TASKS, "unknown-task-type")
+    for decl in mission.constraints:
+        _check_declaration(ctx, decl, CONSTRAINTS, "unknown-constraint-type")
+
+
+def subject_of(ctx: CheckContext, decl) -> Subject | None:
+    """The subject of a declaration whose type is known, else ``None``."""
+    registry = TASKS if isinstance(decl, ast.TaskDecl) else CONSTRAINTS
+    kind = registry.get(decl.kind.text)
+    if kind is None:
+        return None
+    joints = None
+    if kind.subject == JOINT_GROUP and len(decl.arguments) == 1:
+        joints = ctx.world.joints(decl.arguments[0].text)
+    return Subject(kind, joints)
+
+
+def _check_declaration(ctx: CheckContext, decl, registry: Registry, code: str) -> None:
+    kind = registry.get(decl.kind.text)
+    if kind is None:
+        ctx.unknown(code, registry.family, decl.kind, registry.names(),
+                    f"{registry.family}s: {', '.join(registry.names())}")
+        return
+    subject_word = "joint group" if kind.subject == JOINT_GROUP else "body"
+    if len(decl.arguments) != 1:
+        ctx.error("wrong-arguments", f"{kind.name} takes one {subject_word}, "
+                  f"not {len(decl.arguments)}", decl.kind.span,
+                  f"write {kind.name}({subject_word.upper().replace(' ', '_')})")
+        return
+    argument = decl.arguments[0]
+    if kind.subject == JOINT_GROUP:
+        if not ctx.world.has_joints(argument.text):
+            ctx.unknown("unknown-joint-group", "joint group", argument,
+                        ctx.world.joint_names())
+            return
+    elif not check_body(ctx, argument):
+        return
+    given = [(p.name, p.value) for p in decl.parameters]
+    owner = f"{'task' if isinstance(decl, ast.TaskDecl) else 'constraint'} '{decl.name.text}'"
+    check_parameters(ctx, given, kind, subject_of(ctx, decl), owner, decl.name.span)

@@ -1,0 +1,140 @@
+"""Parameters of declarations and calls: names, kinds of value, dimensions, ranges."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..lang import ast
+from ..lang.catalogue import (BODY, FEEDBACK, FEEDBACKS, INTEGER, INTERPOLATOR,
+                              INTERPOLATORS, PER_DOF, SCALAR, TARGET, Kind, Parameter,
+                              Registry)
+from ..lang.units import describe
+from .context import CheckContext, Joints
+from .targets import check_target
+from .values import check_per_dof, check_quantity, space_dimensions
+
+
+@dataclass(frozen=True)
+class Subject:
+    """What a task or constraint drives: its space and, for joints, the joints."""
+
+    kind: Kind
+    joints: Joints | None = None
+
+    @property
+    def space(self) -> str | None:
+        return self.kind.space
+
+    @property
+    def dofs(self) -> int | None:
+        if self.joints is not None:
+            return self.joints.dofs
+        return None if self.kind.subject == "joint_group" else 1
+
+
+def check_value(ctx: CheckContext, parameter: Parameter, value: ast.Value, subject: Subject,
+                what: str) -> None:
+    """Check one value given to ``parameter`` (of a declaration, a call or an action)."""
+    dimensions = space_dimensions(parameter.dimension, subject.space, subject.joints)
+    if parameter.kind == SCALAR:
+        if not isinstance(value, ast.Quantity):
+            ctx.error("wrong-value", f"{what} expects {describe(dimensions)}", value.span)
+            return
+        number = check_quantity(ctx, value, dimensions, what)
+        _check_sign(ctx, parameter, (number,) if number is not None else (), value, what)
+    elif parameter.kind == PER_DOF:
+        numbers = check_per_dof(ctx, value, dimensions, what, subject.dofs)
+        _check_sign(ctx, parameter, numbers or (), value, what)
+    elif parameter.kind == INTEGER:
+        if (not isinstance(value, ast.Quantity) or value.unit is not None
+                or not value.value.is_integer() or value.value < 0):
+            ctx.error("wrong-value", f"{what} expects a whole number, 0 or more", value.span)
+    elif parameter.kind == BODY:
+        check_body_value(ctx, value, what)
+    elif parameter.kind == INTERPOLATOR:
+        check_call(ctx, value, INTERPOLATORS, "unknown-interpolator", subject, what)
+    elif parameter.kind == FEEDBACK:
+        check_call(ctx, value, FEEDBACKS, "unknown-feedback", subject, what)
+    elif parameter.kind == TARGET:
+        check_target(ctx, value, subject.kind, subject.joints, what)
+
+
+def _check_sign(ctx, parameter: Parameter, numbers, value: ast.Value, what: str) -> None:
+    if parameter.non_negative and any(n < 0 for n in numbers):
+        ctx.error("wrong-value", f"{what} must not be negative", value.span)
+
+
+def check_body_value(ctx: CheckContext, value: ast.Value, what: str) -> None:
+    if not isinstance(value, ast.Reference):
+        ctx.error("wrong-value", f"{what} expects a body name", value.span,
+                  "for example 'world' or a body of the world")
+        return
+    check_body(ctx, value.name)
+
+
+def check_body(ctx: CheckContext, name: ast.Name) -> bool:
+    """Report a body the world does not have; ``True`` when it exists (or no world)."""
+    if ctx.world.has_body(name.text):
+        return True
+    ctx.unknown("unknown-body", "body", name, ctx.world.body_names())
+    return False
+
+
+def check_parameters(ctx: CheckContext, given: list[tuple[ast.Name | None, ast.Value]],
+                     kind: Kind, subject: Subject, owner: str, span) -> None:
+    """Check a declaration's ``name = value`` list or a call's arguments against ``kind``.
+
+    Positional arguments (name ``None``) take the parameters in their declared order.
+    """
+    seen: dict[str, ast.Name | None] = {}
+    for index, (name, value) in enumerate(given):
+        if name is None:
+            if index >= len(kind.parameters):
+                ctx.error("wrong-arguments",
+                          f"{owner} takes at most {len(kind.parameters)} arguments",
+                          value.span)
+                continue
+            parameter = kind.parameters[index]
+        else:
+            parameter = kind.parameter(name.text)
+            if parameter is None:
+                ctx.unknown("unknown-parameter", "parameter", name, kind.parameter_names,
+                            _parameters_hint(kind), where=f" for {owner}")
+                continue
+        if parameter.name in seen:
+            ctx.error("duplicate-name", f"parameter '{parameter.name}' is given twice",
+                      (name or value).span)
+            continue
+        seen[parameter.name] = name
+        check_value(ctx, parameter, value, subject, f"'{parameter.name}'")
+    missing = [p.name for p in kind.parameters if p.required and p.name not in seen]
+    if missing:
+        ctx.error("missing-parameter",
+                  f"{owner} needs {', '.join(repr(m) for m in missing)}", span,
+                  _parameters_hint(kind))
+
+
+def _parameters_hint(kind: Kind) -> str:
+    if not kind.parameters:
+        return f"{kind.name} takes no parameters"
+    return f"{kind.name} takes " + ", ".join(p.name for p in kind.parameters)
+
+
+def check_call(ctx: CheckContext, value: ast.Value, registry: Registry, code: str,
+               subject: Subject, what: str) -> None:
+    """An interpolator or feedback law: ``kind(args)`` or a bare ``kind``."""
+    if isinstance(value, ast.Reference):
+        kind_name, arguments, span = value.name, (), value.span
+    elif isinstance(value, ast.Call):
+        kind_name, arguments, span = value.kind, value.arguments, value.span
+    else:
+        ctx.error("wrong-value", f"{what} expects {registry.family} such as "
+                  f"{', '.join(registry.names()[:3])}", value.span)
+        return
+    kind = registry.get(kind_name.text)
+    if kind is None:
+        ctx.unknown(code, registry.family, kind_name, registry.names(),
+                    f"{registry.family}s: {', '.join(registry.names())}")
+        return
+    given = [(a.name, a.value) for a in arguments]
+    check_parameters(ctx, given, kind, subject, f"{kind.name}()", span)

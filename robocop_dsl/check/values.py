@@ -1,0 +1,128 @@
+"""Numbers, vectors and their units: check dimensions, convert to SI.
+
+Each ``check_*`` function reports what is wrong with a value and returns it in SI, or
+``None`` when it is unusable. ``to_si`` and ``vector_to_si`` convert values that passed.
+"""
+
+from __future__ import annotations
+
+from ..lang import ast
+from ..lang.catalogue import (ACCELERATION, JOINT_SPACE, JOINT_VELOCITY_SPACE,
+                              ORIENTATION_SPACE, POSITION, TWIST_SPACE, VELOCITY)
+from ..lang.units import (ANGLE, ANGULAR_ACCELERATION, ANGULAR_VELOCITY, DIMENSIONLESS,
+                          LENGTH, LINEAR_ACCELERATION, LINEAR_VELOCITY, SI_SYMBOL, UNITS,
+                          describe, lookup)
+from .context import CheckContext, Joints, finite
+
+_RATES = {ANGLE: (ANGULAR_VELOCITY, ANGULAR_ACCELERATION),
+          LENGTH: (LINEAR_VELOCITY, LINEAR_ACCELERATION)}
+
+
+def space_dimensions(symbol: str, space: str | None, joints: Joints | None) -> tuple[str, ...]:
+    """Turn ``POSITION``/``VELOCITY``/``ACCELERATION`` into dimensions for a space."""
+    if symbol not in (POSITION, VELOCITY, ACCELERATION):
+        return (symbol,)
+    if space in (JOINT_SPACE, JOINT_VELOCITY_SPACE):
+        positions = joints.position_dimensions if joints else (ANGLE, LENGTH)
+    elif space == ORIENTATION_SPACE:
+        positions = (ANGLE,)
+    elif space == TWIST_SPACE:
+        positions = (LENGTH, ANGLE)
+    else:
+        positions = (LENGTH,)
+    if symbol == POSITION:
+        return positions
+    index = 0 if symbol == VELOCITY else 1
+    return tuple(_RATES[p][index] for p in positions)
+
+
+def unit_of(ctx: CheckContext, unit: ast.Name | None):
+    """The unit named (``None`` for a bare number); ``False`` when it does not exist."""
+    if unit is None:
+        return None
+    found = lookup(unit.text)
+    if found is None:
+        ctx.unknown("unknown-unit", "unit", unit, UNITS,
+                    "units: " + ", ".join(UNITS))
+        return False
+    return found
+
+
+def _dimension_fits(ctx: CheckContext, unit, written: ast.Name | None,
+                    dimensions: tuple[str, ...], what: str) -> bool:
+    if unit is None or unit.dimension in dimensions:
+        return True
+    if dimensions == (DIMENSIONLESS,):
+        message = f"{what} is a plain number, not {_article(unit.dimension)}"
+    else:
+        message = f"{what} expects {describe(dimensions)}, not {_article(unit.dimension)}"
+    ctx.error("wrong-dimension", message, written.span, _hint(dimensions))
+    return False
+
+
+def _article(dimension: str) -> str:
+    return ("an " if dimension[0] in "aeiou" else "a ") + dimension
+
+
+def _hint(dimensions: tuple[str, ...]) -> str | None:
+    if dimensions == (DIMENSIONLESS,):
+        return "write the number without a unit"
+    return "a number without a unit is SI (" + ", ".join(
+        SI_SYMBOL[d] for d in dimensions) + ")"
+
+
+def check_quantity(ctx: CheckContext, quantity: ast.Quantity, dimensions: tuple[str, ...],
+                   what: str) -> float | None:
+    """A scalar of one of ``dimensions``, in SI."""
+    unit = unit_of(ctx, quantity.unit)
+    if unit is False:
+        return None
+    if not _dimension_fits(ctx, unit, quantity.unit, dimensions, what):
+        return None
+    if not finite(quantity.value):
+        ctx.error("bad-number", f"{what} is too large", quantity.span)
+        return None
+    return to_si(quantity)
+
+
+def check_vector(ctx: CheckContext, vector: ast.Vector, dimensions: tuple[str, ...], what: str,
+                 length: int | None) -> tuple[float, ...] | None:
+    """A vector of ``length`` values (any when ``None``) of one of ``dimensions``, in SI."""
+    unit = unit_of(ctx, vector.unit)
+    if unit is False:
+        return None
+    if not _dimension_fits(ctx, unit, vector.unit, dimensions, what):
+        return None
+    if length is not None and len(vector.values) != length:
+        ctx.error("wrong-length", f"{what} has {len(vector.values)} values, expected {length}",
+                  vector.span, f"one value per degree of freedom ({length})"
+                  if length not in (3, 6) else None)
+        return None
+    if not all(map(finite, vector.values)):
+        ctx.error("bad-number", f"{what} has a value too large", vector.span)
+        return None
+    return vector_to_si(vector)
+
+
+def check_per_dof(ctx: CheckContext, value: ast.Value, dimensions: tuple[str, ...], what: str,
+                  dofs: int | None) -> tuple[float, ...] | None:
+    """One number broadcast over ``dofs``, or a vector of one per dof, in SI."""
+    if isinstance(value, ast.Quantity):
+        number = check_quantity(ctx, value, dimensions, what)
+        return None if number is None else (number,) * (dofs or 1)
+    if isinstance(value, ast.Vector):
+        return check_vector(ctx, value, dimensions, what, dofs)
+    ctx.error("wrong-value", f"{what} expects {describe(dimensions)}", value.span,
+              "a number with a unit, or a vector of one per joint")
+    return None
+
+
+def to_si(quantity: ast.Quantity) -> float:
+    unit = lookup(quantity.unit.text) if quantity.unit else None
+    return quantity.value * (unit.to_si if unit else 1.0)
+
+
+def vector_to_si(vector: ast.Vector) -> tuple[float, ...]:
+    unit = lookup(vector.unit.text) if vector.unit else None
+    scale = unit.to_si if unit else 1.0
+    return tuple(v * scale for v in vector.values)

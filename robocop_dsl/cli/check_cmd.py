@@ -1,0 +1,78 @@
+"""``robocop-mission check FILE...``: parse and check missions against their worlds.
+
+Exit codes: 0 no error (warnings allowed unless ``--strict``), 1 errors, 2 usage error
+(bad option, missing file).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import sys
+from pathlib import Path
+
+from ..compile import WorldCache, check_file
+from ..diagnostics import ERROR, Diagnostic
+
+FORMATS = ("text", "json", "github")
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "check", help="parse and check missions against their worlds",
+        description="Parse each mission, load the world it names and check it. Prints "
+                    "'FILE: OK' or every diagnostic as FILE:LINE:COL: error[CODE]: message.")
+    parser.add_argument("files", nargs="+", metavar="FILE", help=".mission files")
+    parser.add_argument("--format", choices=FORMATS, default="text",
+                        help="text (default), json, or github workflow commands")
+    parser.add_argument("--strict", action="store_true", help="treat warnings as errors")
+    parser.set_defaults(command=run)
+
+
+def _strict(diagnostics, strict: bool) -> list[Diagnostic]:
+    if not strict:
+        return list(diagnostics)
+    return [dataclasses.replace(d, severity=ERROR) for d in diagnostics]
+
+
+def _count(number: int, word: str) -> str:
+    return f"{number} {word}{'' if number == 1 else 's'}"
+
+
+def _summary(path: str, diagnostics: list[Diagnostic]) -> str:
+    errors = sum(d.is_error for d in diagnostics)
+    warnings = len(diagnostics) - errors
+    if not diagnostics:
+        return f"{path}: OK"
+    parts = [_count(errors, "error")] if errors else []
+    parts += [_count(warnings, "warning")] if warnings else []
+    return f"{path}: {', '.join(parts)}"
+
+
+def run(args) -> int:
+    """Check every file; exit 1 when any has an error."""
+    missing = [f for f in args.files if not Path(f).is_file()]
+    if missing:
+        for name in missing:
+            print(f"robocop-mission check: error: no such file: {name}", file=sys.stderr)
+        return 2
+    cache = WorldCache()
+    reports = []
+    for name in args.files:
+        result = check_file(name, cache=cache)
+        reports.append((name, _strict(result.diagnostics, args.strict)))
+    if args.format == "json":
+        print(json.dumps([{"file": name, "ok": not any(d.is_error for d in found),
+                           "diagnostics": [d.to_json() for d in found]}
+                          for name, found in reports], indent=2))
+    elif args.format == "github":
+        for _, found in reports:
+            for diagnostic in found:
+                print(diagnostic.to_github())
+    else:
+        for name, found in reports:
+            for diagnostic in found:
+                print(diagnostic.render())
+                print()
+            print(_summary(name, found))
+    return 1 if any(d.is_error for _, found in reports for d in found) else 0

@@ -1,0 +1,130 @@
+"""From a mission file to diagnostics or a compiled mission: parse, load the world,
+check, build the state graph, check it, compile."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import networkx as nx
+
+from ..check import check_graph, check_mission, first_state
+from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, sort_key
+from ..lang import ast, parse_mission
+from ..world import World, load_world, resolve_world_path
+from .compiler import compile_mission
+from .spec import MissionSpec
+from .state_graph import build_state_graph
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    """Everything ``check`` learnt about one mission file.
+
+    ``world`` is ``None`` when the mission names none or it failed to load; ``mission``
+    is the compiled mission when there is no error, else ``None``.
+    """
+
+    source: SourceFile
+    diagnostics: tuple[Diagnostic, ...]
+    syntax_tree: ast.Mission
+    graph: nx.DiGraph
+    world: World | None
+    mission: MissionSpec | None
+
+    @property
+    def ok(self) -> bool:
+        return not any(d.is_error for d in self.diagnostics)
+
+    @property
+    def warnings(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if not d.is_error]
+
+
+class WorldCache:
+    """Worlds loaded so far, by resolved path: checking many missions loads each once."""
+
+    def __init__(self):
+        self._worlds: dict[Path, tuple[World | None, tuple[Diagnostic, ...]]] = {}
+
+    def load(self, path: Path) -> tuple[World | None, tuple[Diagnostic, ...]]:
+        if path not in self._worlds:
+            try:
+                self._worlds[path] = (load_world(path), ())
+            except DiagnosticError as error:
+                self._worlds[path] = (None, tuple(error.diagnostics))
+        return self._worlds[path]
+
+
+def _world_of(mission: ast.Mission, source: SourceFile, cache: WorldCache):
+    """The resolved world path, the world (or ``None``) and diagnostics about loading it."""
+    declared = mission.first(ast.WorldDecl)
+    if declared is None:
+        return None, None, []
+    folder = Path(source.path).parent if source.path != "<stdin>" else Path.cwd()
+    path = resolve_world_path(declared.path.text, relative_to=folder.resolve())
+    if path is None:
+        return None, None, [source.error(
+            "world-not-found", f"world file '{declared.path.text}' not found",
+            declared.path.span, "looked beside the mission, in the package's robots/ and "
+            "in ROBOCOP_PATH folders")]
+    world, problems = cache.load(path)
+    if world is None:
+        return path, None, [source.error(
+            "world-error", f"the world '{declared.path.text}' has errors",
+            declared.path.span, "see the errors reported in the world file"), *problems]
+    return path, world, []
+
+
+def check_source(text: str, path: str | Path = "<mission>", *, world: World | None = None,
+                 cache: WorldCache | None = None) -> CheckResult:
+    """Parse and check mission ``text``; compile it when there is no error.
+
+    ``world``, when given, is used instead of the one the mission names (tests and
+    tools that check many texts against one world). Never raises on bad input.
+    """
+    parsed = parse_mission(text, path)
+    source, tree = parsed.source, parsed.mission
+    if world is not None:
+        world_path, loading = Path(world.path), []
+    else:
+        world_path, world, loading = _world_of(tree, source, cache or WorldCache())
+    ctx = check_mission(tree, source, world)
+    start = first_state(ctx, tree)
+    graph = build_state_graph(tree, start)
+    if parsed.ok:
+        check_graph(ctx, tree, graph)
+    diagnostics = tuple(sorted([*parsed.diagnostics, *loading, *ctx.diagnostics],
+                               key=lambda d: (d.file != source.path, *sort_key(d))))
+    compiled = None
+    if not any(d.is_error for d in diagnostics) and world is not None:
+        compiled = compile_mission(tree, source, world, world_path, start, graph)
+    return CheckResult(source, diagnostics, tree, graph, world, compiled)
+
+
+def check_file(path: str | Path, *, world: World | None = None,
+               cache: WorldCache | None = None) -> CheckResult:
+    """Read a mission file and :func:`check_source` it. An unreadable file is a
+    diagnostic too."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        source = SourceFile(str(path), "")
+        problem = source.error("unreadable-file", f"cannot read the file: "
+                               f"{getattr(error, 'strerror', None) or error}", None)
+        return CheckResult(source, (problem,), ast.Mission(), nx.DiGraph(start=None,
+                                                                         guards=()),
+                           None, None)
+    return check_source(text, path, world=world, cache=cache)
+
+
+def load_mission(path: str | Path, *, world: World | None = None) -> MissionSpec:
+    """Parse, check and compile a mission file.
+
+    Raises :class:`~robocop_dsl.diagnostics.DiagnosticError` with every diagnostic
+    (warnings included) when there is any error.
+    """
+    result = check_file(path, world=world)
+    if result.mission is None:
+        raise DiagnosticError(result.diagnostics)
+    return result.mission

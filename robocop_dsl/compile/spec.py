@@ -1,0 +1,323 @@
+"""The compiled mission: plain typed specs, all values in SI, ready for a runtime.
+
+Nothing here refers to the parser or to pinocchio: names are strings (bodies, joint
+groups, tasks, states), numbers are floats [m, rad, s and their rates], vectors are
+tuples. Spans point back into the mission file for run-time messages.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Union
+
+import networkx as nx
+
+from ..diagnostics import SourceFile, Span
+
+# ---- values -----------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class InterpolatorSpec:
+    """``kind`` is ``otg``, ``linear``, ``cubic``, ``quintic`` or ``none`` (or a registered
+    one); ``parameters`` in SI: otg ``max_velocity``/``max_acceleration`` (tuples, one
+    value per dof, one value for body tasks), the others ``duration`` [s]."""
+
+    kind: str
+    parameters: dict[str, float | tuple[float, ...]] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class FeedbackSpec:
+    """``proportional`` (``gain`` [1/s]) or ``pid`` (``kp``, ``ki``, ``kd``)."""
+
+    kind: str
+    parameters: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class VectorTarget:
+    """Joint positions [rad or m] or velocities, a position [m], rpy [rad] or a twist
+    (vx, vy, vz [m/s], wx, wy, wz [rad/s]), depending on the task."""
+
+    values: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class BodyTarget:
+    """Track a body's pose; ``offset`` [m] is added to its position, in the task's
+    reference frame."""
+
+    body: str
+    offset: tuple[float, float, float] | None = None
+
+
+@dataclass(frozen=True)
+class PoseTarget:
+    """A pose in the task's reference frame; ``None`` parts are not constrained."""
+
+    position: tuple[float, float, float] | None = None
+    rpy: tuple[float, float, float] | None = None
+
+
+@dataclass(frozen=True)
+class CurrentTarget:
+    """Hold the value the task has when the target is set (or the task enabled)."""
+
+
+TargetSpec = Union[VectorTarget, BodyTarget, PoseTarget, CurrentTarget]
+
+
+# ---- tasks and constraints ------------------------------------------------------------
+
+@dataclass(frozen=True)
+class TaskSpec:
+    """A task: ``type`` from the catalogue (``joint_position``, ``body_pose``...) on a
+    ``joint_group`` (joint tasks) or a ``body`` (body tasks), with its ``reference`` body
+    (body tasks; ``"world"`` by default). ``gain`` (``None``: the feedback's) and
+    ``weight`` can change while running; ``priority`` 0 is the highest level."""
+
+    name: str
+    type: str
+    joint_group: str | None
+    body: str | None
+    reference: str | None
+    target: TargetSpec
+    interpolator: InterpolatorSpec
+    feedback: FeedbackSpec
+    priority: int
+    weight: float
+    gain: float | None
+    dofs: int
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class ConstraintSpec:
+    """A constraint, enabled from the start.
+
+    ``joint_kinematic`` on ``joint_group``: ``min_position``/``max_position`` (tuples,
+    URDF limits by default), ``max_velocity`` (tuple, URDF by default),
+    ``max_acceleration`` (tuple or ``None``: not limited). ``body_velocity`` on ``body``:
+    ``reference`` (str), ``max_linear`` [m/s] and ``max_angular`` [rad/s] (``None``:
+    not limited).
+    """
+
+    name: str
+    type: str
+    joint_group: str | None
+    body: str | None
+    parameters: dict[str, object]
+    span: Span = field(compare=False)
+
+
+# ---- actions ---------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class EnableAction:
+    names: tuple[str, ...]
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class DisableAction:
+    names: tuple[str, ...]
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class ResetAction:
+    """Restart the tasks' interpolators from the current state."""
+
+    names: tuple[str, ...]
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class SetTargetAction:
+    task: str
+    target: TargetSpec
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class SetParameterAction:
+    """Set ``gain``/``weight`` of a task or a limit of a constraint (SI; per-dof limits
+    as tuples)."""
+
+    owner: str
+    parameter: str
+    value: float | tuple[float, ...]
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class AttachAction:
+    """From now on ``body`` moves rigidly with ``parent``."""
+
+    body: str
+    parent: str
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class DetachAction:
+    body: str
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class EmitAction:
+    event: str
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class LogAction:
+    text: str
+    span: Span = field(compare=False)
+
+
+ActionSpec = Union[EnableAction, DisableAction, ResetAction, SetTargetAction,
+                   SetParameterAction, AttachAction, DetachAction, EmitAction, LogAction]
+
+
+# ---- conditions ------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ReachedCondition:
+    """The task's interpolator has finished."""
+
+    task: str
+
+
+@dataclass(frozen=True)
+class ControllerFailedCondition:
+    """The QP had no solution this cycle."""
+
+
+@dataclass(frozen=True)
+class TaskMeasure:
+    """``error`` (norm of the task error), ``position_error`` [m] or
+    ``orientation_error`` [rad] of a task."""
+
+    task: str
+    field: str
+
+
+@dataclass(frozen=True)
+class ElapsedMeasure:
+    """Time in the current state [s]."""
+
+
+@dataclass(frozen=True)
+class TimeMeasure:
+    """Time since the mission started [s]."""
+
+
+@dataclass(frozen=True)
+class DistanceMeasure:
+    """Distance between two bodies' origins [m]."""
+
+    first: str
+    second: str
+
+
+MeasureSpec = Union[TaskMeasure, ElapsedMeasure, TimeMeasure, DistanceMeasure]
+
+
+@dataclass(frozen=True)
+class CompareCondition:
+    """``measure operator value``; ``operator`` is ``<``, ``<=``, ``>`` or ``>=``, value SI."""
+
+    measure: MeasureSpec
+    operator: str
+    value: float
+
+
+@dataclass(frozen=True)
+class EventCondition:
+    """True in the cycle after an ``emit`` of ``event``."""
+
+    event: str
+
+
+@dataclass(frozen=True)
+class NotCondition:
+    operand: "ConditionSpec"
+
+
+@dataclass(frozen=True)
+class AllCondition:
+    """``and`` of the operands."""
+
+    operands: tuple["ConditionSpec", ...]
+
+
+@dataclass(frozen=True)
+class AnyCondition:
+    """``or`` of the operands."""
+
+    operands: tuple["ConditionSpec", ...]
+
+
+ConditionSpec = Union[ReachedCondition, ControllerFailedCondition, CompareCondition,
+                      EventCondition, NotCondition, AllCondition, AnyCondition]
+
+
+# ---- states and the mission -----------------------------------------------------------
+
+@dataclass(frozen=True)
+class TransitionSpec:
+    """``when condition -> target``; ``text`` is the condition as written (canonical),
+    ``guard`` tells a top-level clause."""
+
+    condition: ConditionSpec
+    target: str
+    text: str
+    guard: bool
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class StateSpec:
+    """A state and its blocks. ``transitions`` are the state's own clauses then the
+    top-level guards, in the order they are checked (none for final states).
+    ``outcome`` is ``"success"`` or ``"failure"`` for final states, else ``None``."""
+
+    name: str
+    enter: tuple[ActionSpec, ...]
+    during: tuple[ActionSpec, ...]
+    exit: tuple[ActionSpec, ...]
+    transitions: tuple[TransitionSpec, ...]
+    final: bool
+    outcome: str | None
+    span: Span = field(compare=False)
+
+
+@dataclass(frozen=True)
+class MissionSpec:
+    """A checked mission. ``world_path`` is the resolved world file; ``controller`` the
+    qp_controller processor that runs the tasks; ``graph`` the state graph (see
+    :mod:`robocop_dsl.compile.state_graph`). Dicts keep declaration order."""
+
+    name: str
+    description: str | None
+    world_path: Path
+    controller: str
+    constraints: dict[str, ConstraintSpec]
+    tasks: dict[str, TaskSpec]
+    states: dict[str, StateSpec]
+    start: str
+    guards: tuple[TransitionSpec, ...]
+    events: frozenset[str]
+    graph: nx.DiGraph = field(compare=False, repr=False)
+    source: SourceFile = field(compare=False, repr=False)
+
+    def state(self, name: str) -> StateSpec:
+        return self.states[name]
+
+    @property
+    def final_states(self) -> list[str]:
+        return [name for name, state in self.states.items() if state.final]

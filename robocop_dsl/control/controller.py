@@ -1,0 +1,335 @@
+"""The kinematic QP whole-body controller: tasks and constraints to joint velocities."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .constraints import CONSTRAINTS, Constraint
+from .exceptions import DuplicateName, InvalidParameter, UnknownKind, UnknownName
+from .hierarchy import Bounds, Objective, solve_levels
+from .kinematics import Kinematics
+from .parameters import scalar_parameter
+from .results import ControlResult, Timings
+from .solvers import QuadraticProgram, make_solver
+from .state import ControlState, resolve_group
+from .tasks import TASKS, Task
+
+HIERARCHIES = ("strict", "weighted")
+
+
+@dataclass
+class _Plan:
+    """What stays fixed while no task or constraint is enabled, disabled or re-prioritised."""
+
+    revision: int
+    tasks: list
+    levels: list
+    solvers: list
+    regularisation: np.ndarray
+    full_box: Constraint | None
+    boxes: list
+    rows: list
+
+
+class Controller:
+    """Computes, every period, the joint velocities of a group that best realise the
+    enabled tasks under the enabled constraints.
+
+    The runtime owns the state: each cycle it passes the whole model's configuration
+    to :meth:`compute` and integrates or sends the returned command.
+
+    Args:
+        world: The world (its ``model``, bodies and joint groups).
+        joint_group: The controlled joint group; the command has one entry per joint.
+        time_step: Control period [s].
+        solver: A qpsolvers backend name; ``"proxqp"`` is reused and warm-started.
+        hierarchy: ``"strict"`` (one QP per priority level, see
+            :mod:`robocop_dsl.control.hierarchy`) or ``"weighted"`` (one QP, weights).
+        damping: Weight of ``|dq|^2`` in every QP [-], keeps them strictly convex.
+        kinematics: A :class:`Kinematics` to share with the runtime; default a new one.
+
+    Raises:
+        UnknownName: the joint group does not exist.
+        UnknownSolver: the solver is not installed.
+        InvalidParameter: invalid time step, hierarchy or damping.
+    """
+
+    def __init__(self, world, joint_group: str, time_step: float, solver: str = "proxqp",
+                 hierarchy: str = "strict", *, damping: float = 1e-6,
+                 kinematics: Kinematics | None = None):
+        if hierarchy not in HIERARCHIES:
+            raise InvalidParameter("controller", "hierarchy", hierarchy,
+                                   " or ".join(HIERARCHIES))
+        self.time_step = scalar_parameter("controller", "time_step", time_step, minimum=0.0,
+                                          strict=True)
+        self.damping = scalar_parameter("controller", "damping", damping, minimum=0.0,
+                                        strict=True)
+        self.hierarchy = hierarchy
+        self.solver = solver
+        make_solver(solver)
+        self.world = world
+        self.kinematics = kinematics if kinematics is not None else Kinematics(world)
+        group = resolve_group(world, joint_group)
+        self.state = ControlState(self.kinematics, group, self.time_step)
+        self._tasks: dict[str, Task] = {}
+        self._constraints: dict[str, Constraint] = {}
+        self._auto_enable: bool | None = None
+        self._cached_plan: _Plan | None = None
+        self.failed = False
+        self.result: ControlResult | None = None
+        self.problems: list[QuadraticProgram] = []
+
+    @classmethod
+    def from_world(cls, world, processor: str | None = None, **overrides) -> "Controller":
+        """A controller configured by a ``qp_controller`` processor of the world.
+
+        Args:
+            world: The world.
+            processor: The processor's name; default the world's only controller.
+            **overrides: Constructor arguments replacing the processor's options.
+        """
+        names = world.controller_names()
+        if processor is None and len(names) == 1:
+            processor = names[0]
+        if processor not in names:
+            raise UnknownName("qp_controller processor", str(processor), names)
+        options = dict(world.processors[processor].options)
+        options.update(overrides)
+        return cls(world, options.pop("joint_group"), options.pop("time_step"), **options)
+
+    @property
+    def joint_group(self):
+        """The controlled joint group."""
+        return self.state.group
+
+    def set_auto_enable(self, enabled: bool) -> None:
+        """Enable (or not) tasks and constraints as they are added.
+
+        Until called, constraints start enabled and tasks disabled.
+        """
+        self._auto_enable = bool(enabled)
+
+    def add_task(self, kind: str, name: str, body_or_group: str, **parameters) -> Task:
+        """Add a task of a registered ``kind`` on a body or joint group.
+
+        Args:
+            kind: ``joint_position``, ``joint_velocity``, ``body_position``,
+                ``body_orientation``, ``body_pose`` or ``body_velocity``.
+            name: Unique task name.
+            body_or_group: The body (body tasks) or joint group (joint tasks).
+            **parameters: ``target``, ``reference``, ``interpolator``, ``feedback``,
+                ``weight``, ``priority``, ``gain``.
+
+        Raises:
+            UnknownKind, DuplicateName, UnknownName, InvalidParameter.
+        """
+        if kind not in TASKS:
+            raise UnknownKind("task", kind, TASKS)
+        if name in self._tasks:
+            raise DuplicateName("task", name)
+        task = TASKS[kind](name, self.state, body_or_group, **parameters)
+        if self._auto_enable:
+            task.enable()
+        self._tasks[name] = task
+        self.state.revision += 1
+        return task
+
+    def add_constraint(self, kind: str, name: str, body_or_group: str,
+                       **parameters) -> Constraint:
+        """Add a constraint of a registered ``kind`` (``joint_kinematic``,
+        ``body_velocity``) on a joint group or body.
+
+        Raises:
+            UnknownKind, DuplicateName, UnknownName, InvalidParameter.
+        """
+        if kind not in CONSTRAINTS:
+            raise UnknownKind("constraint", kind, CONSTRAINTS)
+        if name in self._constraints:
+            raise DuplicateName("constraint", name)
+        constraint = CONSTRAINTS[kind](name, self.state, body_or_group, **parameters)
+        constraint.enabled = self._auto_enable is not False
+        self._constraints[name] = constraint
+        return constraint
+
+    def remove_task(self, name: str) -> None:
+        """Remove a task."""
+        self.task(name)
+        del self._tasks[name]
+        self.state.revision += 1
+
+    def remove_constraint(self, name: str) -> None:
+        """Remove a constraint."""
+        self.constraint(name)
+        del self._constraints[name]
+        self.state.revision += 1
+
+    def task(self, name: str) -> Task:
+        """The task called ``name``; raises :class:`UnknownName` listing the tasks."""
+        try:
+            return self._tasks[name]
+        except KeyError:
+            raise UnknownName("task", name, self._tasks) from None
+
+    def constraint(self, name: str) -> Constraint:
+        """The constraint called ``name``; raises :class:`UnknownName` listing them."""
+        try:
+            return self._constraints[name]
+        except KeyError:
+            raise UnknownName("constraint", name, self._constraints) from None
+
+    def tasks(self) -> tuple[Task, ...]:
+        """Every task, in the order added."""
+        return tuple(self._tasks.values())
+
+    def constraints(self) -> tuple[Constraint, ...]:
+        """Every constraint, in the order added."""
+        return tuple(self._constraints.values())
+
+    def reset(self) -> None:
+        """Forget the previous command and warm starts; tasks restart at the next cycle."""
+        self.state.previous_command = np.zeros(self.state.dofs)
+        self.state.velocity = np.zeros(self.state.dofs)
+        for task in self._tasks.values():
+            task.reset()
+            task.feedback_loop().reset()
+        self._cached_plan = None
+        self.failed = False
+        self.result = None
+
+    def update_state(self, q: np.ndarray, dq: np.ndarray | None = None) -> None:
+        """Make ``q`` (nq) and ``dq`` (nv, optional) the state that errors are read at."""
+        self.kinematics.update(np.asarray(q, dtype=float))
+        state = self.state
+        state.velocity = (state.previous_command if dq is None
+                          else np.asarray(dq, dtype=float)[state.v_indices])
+
+    def compute(self, q: np.ndarray, dq: np.ndarray | None = None) -> ControlResult:
+        """One control cycle at configuration ``q`` (nq) and velocity ``dq`` (nv).
+
+        ``dq`` defaults to the previous command. Never raises on bad numbers or an
+        infeasible QP: the result is then a zero command with ``solved=False``.
+        """
+        start = time.perf_counter()
+        q = np.asarray(q, dtype=float)
+        reason = self._check_state(q, dq)
+        if reason:
+            return self._refuse(reason, start)
+        self.update_state(q, dq)
+        state = self.state
+        plan = self._plan()
+        after_kinematics = time.perf_counter()
+        objectives = []
+        for task in plan.tasks:
+            if not task.target_is_finite():
+                return self._refuse(f"target of {task.label} is not finite", start)
+            jacobian, velocity = task.compute_objective(state)
+            if not math.isfinite(velocity @ velocity):
+                return self._refuse(f"reference of {task.label} is not finite", start)
+            objectives.append(Objective(task.name, jacobian, velocity, task.weight))
+        after_tasks = time.perf_counter()
+        bounds = self._bounds(plan)
+        if bounds is None:
+            return self._refuse("constraints have no common solution", start)
+        after_constraints = time.perf_counter()
+        levels = [(priority, [objectives[i] for i in indices])
+                  for priority, indices in plan.levels]
+        command, level_results, self.problems = solve_levels(levels, bounds, plan.solvers,
+                                                             plan.regularisation)
+        end = time.perf_counter()
+        if command is None:
+            return self._refuse("no QP solution (constraints infeasible or solver failure)",
+                                start)
+        timings = Timings(after_kinematics - start, after_tasks - after_kinematics,
+                          after_constraints - after_tasks, end - after_constraints,
+                          end - start)
+        return self._finish(ControlResult(command, True, level_results, timings))
+
+    def _check_state(self, q: np.ndarray, dq) -> str | None:
+        model = self.kinematics.model
+        if q.shape != (model.nq,):
+            return f"configuration has shape {q.shape}, expected ({model.nq},)"
+        if not math.isfinite(q @ q):
+            return "configuration is not finite"
+        if dq is not None:
+            dq = np.asarray(dq, dtype=float)
+            if dq.shape != (model.nv,):
+                return f"velocity has shape {dq.shape}, expected ({model.nv},)"
+            if not math.isfinite(dq @ dq):
+                return "velocity is not finite"
+        return None
+
+    def _plan(self) -> _Plan:
+        """The enabled tasks and constraints, levels and solvers (rebuilt on changes)."""
+        plan = self._cached_plan
+        if plan is not None and plan.revision == self.state.revision:
+            return plan
+        tasks = [task for task in self._tasks.values() if task.enabled]
+        constraints = [c for c in self._constraints.values() if c.enabled]
+        if self.hierarchy == "weighted" or not tasks:
+            levels = [(0, list(range(len(tasks))))]
+        else:
+            by_priority: dict[int, list[int]] = {}
+            for index, task in enumerate(tasks):
+                by_priority.setdefault(task.priority, []).append(index)
+            levels = sorted(by_priority.items())
+        everything = np.arange(self.state.dofs)
+        boxes = [c for c in constraints if c.box_columns is not None]
+        first = next((c for c in boxes if np.array_equal(c.box_columns, everything)), None)
+        plan = _Plan(self.state.revision, tasks, levels,
+                     [make_solver(self.solver) for _ in levels],
+                     np.eye(self.state.dofs) * self.damping, first,
+                     [c for c in boxes if c is not first],
+                     [c for c in constraints if c.box_columns is None])
+        self._cached_plan = plan
+        return plan
+
+    def _bounds(self, plan: _Plan) -> Bounds | None:
+        state = self.state
+        n = state.dofs
+        if plan.full_box is not None:
+            lower, upper = plan.full_box.compute_bounds(state)
+        else:
+            lower, upper = np.full(n, -np.inf), np.full(n, np.inf)
+        for constraint in plan.boxes:
+            low, high = constraint.compute_bounds(state)
+            columns = constraint.box_columns
+            lower[columns] = np.maximum(lower[columns], low)
+            upper[columns] = np.minimum(upper[columns], high)
+        if plan.rows:
+            matrices, row_lower, row_upper = [], [], []
+            for constraint in plan.rows:
+                low, high = constraint.compute_bounds(state)
+                matrices.append(constraint.compute_jacobian(state))
+                row_lower.append(low)
+                row_upper.append(high)
+            bounds = Bounds(lower, upper, np.vstack(matrices), np.concatenate(row_lower),
+                            np.concatenate(row_upper))
+        else:
+            bounds = Bounds(lower, upper, np.zeros((0, n)), np.zeros(0), np.zeros(0))
+        if (lower > upper).any() or (bounds.l > bounds.u).any():
+            return None
+        return bounds
+
+    def _refuse(self, reason: str, start: float) -> ControlResult:
+        self._cached_plan = None
+        total = time.perf_counter() - start
+        return self._finish(ControlResult(np.zeros(self.state.dofs), False,
+                                          timings=Timings(total=total), reason=reason))
+
+    def _finish(self, result: ControlResult) -> ControlResult:
+        self.state.previous_command = result.velocity
+        self.failed = not result.solved
+        self.result = result
+        return result
+
+    def __repr__(self) -> str:
+        enabled_tasks = sum(task.enabled for task in self._tasks.values())
+        enabled_constraints = sum(c.enabled for c in self._constraints.values())
+        return (f"Controller(group={self.state.group.name!r}, dofs={self.state.dofs}, "
+                f"time_step={self.time_step}, solver={self.solver!r}, "
+                f"hierarchy={self.hierarchy!r}, tasks={enabled_tasks}/{len(self._tasks)} "
+                f"enabled, constraints={enabled_constraints}/{len(self._constraints)} enabled)")

@@ -1,0 +1,122 @@
+"""Building a world's driver from its ``processors:`` entry.
+
+```yaml
+processors:
+  driver:
+    type: simulated                  # or loopback
+    options: {joint_group: bazar_upper_joints, rate: 1kHz, command_timeout: 50ms}
+```
+
+Options (durations in seconds or as ``5ms``; a rate as ``1kHz`` or a number of hertz):
+
+- every type: ``joint_group`` (required), ``state_timeout`` (250ms), ``connect_timeout``
+  (5s);
+- ``simulated``: ``rate`` or ``period`` of its thread (1kHz), ``command_timeout`` (50ms);
+- ``loopback``: ``port``, ``launch`` (start the simulator process, default false), and
+  for a launched simulator ``rate``/``period`` and ``command_timeout``.
+"""
+
+from __future__ import annotations
+
+from .base import DEFAULT_COMMAND_TIMEOUT, DEFAULT_CONNECT_TIMEOUT, DEFAULT_STATE_TIMEOUT
+from .errors import DriverConfigError
+from .loopback import LoopbackDriver
+from .simulated import DEFAULT_PERIOD, ThreadedSimulatedDriver
+from .timing import parse_duration, period_from_options
+
+_COMMON = {"joint_group", "state_timeout", "connect_timeout"}
+DRIVER_OPTIONS = {
+    "simulated": _COMMON | {"rate", "period", "command_timeout"},
+    "loopback": _COMMON | {"port", "launch", "rate", "period", "command_timeout"},
+}
+"""The options each driver type accepts."""
+
+
+def driver_processor(world, name: str | None = None):
+    """The world's driver processor: ``name``, or the only one of a driver type.
+
+    Raises:
+        DriverConfigError: No such processor, or several and no ``name``.
+    """
+    drivers = {p.name: p for p in world.processors.values() if p.type in DRIVER_OPTIONS}
+    if name is not None:
+        if name not in drivers:
+            raise DriverConfigError(f"{world.path.name} has no driver processor '{name}' "
+                                    f"(driver processors: {', '.join(drivers) or 'none'})")
+        return drivers[name]
+    if len(drivers) != 1:
+        raise DriverConfigError(f"{world.path.name} has {len(drivers)} driver processors "
+                                f"({', '.join(drivers) or 'none'}): name the one to use")
+    return next(iter(drivers.values()))
+
+
+def create_driver(world, name: str | None = None, realtime: bool = True,
+                  time_step: float | None = None, initial=None):
+    """Build the driver described by the world's processor ``name``.
+
+    Args:
+        world: The loaded world.
+        name: The driver processor's name; optional when the world has one.
+        realtime: For ``simulated``: build the threaded driver, which follows the wall
+            clock. When false, build the in-thread
+            :class:`~robocop_dsl.runtime.driver.SimulatedDriver`, which integrates
+            exactly one ``time_step`` per ``read()`` so a run may go faster than real
+            time. ``loopback`` is always real time.
+        time_step: The control period [s]; required for the in-thread driver.
+        initial: Initial configuration (nq); defaults to the world's ``initial:``.
+
+    Returns:
+        The driver, not yet connected. ``driver.realtime`` tells whether the control
+        loop must keep to the wall clock.
+
+    Raises:
+        DriverConfigError: Unknown type or option, missing or invalid value.
+    """
+    processor = driver_processor(world, name)
+    options = dict(processor.options)
+    unknown = sorted(set(options) - DRIVER_OPTIONS[processor.type])
+    if unknown:
+        raise DriverConfigError(
+            f"driver '{processor.name}' ({processor.type}): unknown option(s) "
+            f"{', '.join(unknown)}; valid: {', '.join(sorted(DRIVER_OPTIONS[processor.type]))}")
+    group = _joint_group(world, processor)
+    common = {"initial": initial,
+              "state_timeout": _seconds(options, "state_timeout", DEFAULT_STATE_TIMEOUT),
+              "connect_timeout": _seconds(options, "connect_timeout", DEFAULT_CONNECT_TIMEOUT)}
+    period = period_from_options(options, DEFAULT_PERIOD)
+    command_timeout = _seconds(options, "command_timeout", DEFAULT_COMMAND_TIMEOUT)
+    if processor.type == "loopback":
+        return LoopbackDriver(world, group, _port(processor), bool(options.get("launch")),
+                              1.0 / period, command_timeout, **common)
+    if realtime:
+        return ThreadedSimulatedDriver(world, group, period, command_timeout, **common)
+    if time_step is None:
+        raise DriverConfigError("the in-thread simulated driver needs the control period "
+                                "(time_step)")
+    from ..runtime.driver import SimulatedDriver
+
+    return SimulatedDriver(world, group, time_step, initial)
+
+
+def _joint_group(world, processor) -> str:
+    group = processor.options.get("joint_group")
+    if group is None:
+        raise DriverConfigError(f"driver '{processor.name}' needs options: {{joint_group: ...}}")
+    if not world.has_group(group) and group not in world.joint_names():
+        raise DriverConfigError(f"driver '{processor.name}': no joint group or joint "
+                                f"'{group}' in {world.path.name}")
+    return group
+
+
+def _seconds(options: dict, key: str, default: float) -> float:
+    return parse_duration(options[key], key) if key in options else default
+
+
+def _port(processor) -> int | None:
+    port = processor.options.get("port")
+    if port is None and not processor.options.get("launch"):
+        raise DriverConfigError(f"driver '{processor.name}' (loopback) needs a 'port' "
+                                f"or 'launch: true'")
+    if port is not None and (not isinstance(port, int) or not 0 <= port <= 65535):
+        raise DriverConfigError(f"driver '{processor.name}': port '{port}' is not a TCP port")
+    return port

@@ -1,0 +1,178 @@
+"""The vocabulary of tasks, constraints, interpolators and feedback laws.
+
+The grammar knows none of these names: a declaration's type is looked up here, so a new
+type is one :func:`register` call away. Each type lists its parameters with the kind of
+value they take, their dimension, whether they are required and their default.
+
+Dimensions are those of :mod:`robocop_dsl.lang.units`, or one of ``POSITION``,
+``VELOCITY``, ``ACCELERATION``: the position, velocity or acceleration of what the task
+or constraint drives (radians or metres for a joint group depending on its joints,
+metres for a body's position, radians for its orientation).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Generic, TypeVar
+
+from .units import (ANGULAR_VELOCITY, DIMENSIONLESS, LINEAR_VELOCITY, TIME)
+
+POSITION = "position"
+VELOCITY = "velocity"
+ACCELERATION = "acceleration"
+
+# What a parameter's value is written as.
+SCALAR = "scalar"            # one number with a unit
+PER_DOF = "per_dof"          # one number (broadcast) or a vector of one per dof
+INTEGER = "integer"          # a non-negative whole number
+BODY = "body"                # a body name, or world
+INTERPOLATOR = "interpolator"
+FEEDBACK = "feedback"
+TARGET = "target"
+
+# What a task or constraint drives, named by its argument.
+JOINT_GROUP = "joint_group"
+BODY_SUBJECT = "body"
+
+# Spaces: what a task's target and error are made of.
+JOINT_SPACE = "joint"
+JOINT_VELOCITY_SPACE = "joint_velocity"
+POSITION_SPACE = "position"
+ORIENTATION_SPACE = "orientation"
+POSE_SPACE = "pose"
+TWIST_SPACE = "twist"
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter: its name, how it is written, its dimension, need and default.
+
+    ``settable`` parameters may also be changed by a state's actions (``X.gain = 2``);
+    ``non_negative`` ones reject values below zero.
+    """
+
+    name: str
+    kind: str
+    dimension: str = DIMENSIONLESS
+    required: bool = False
+    default: Any = None
+    settable: bool = False
+    non_negative: bool = False
+    doc: str = ""
+
+
+@dataclass(frozen=True)
+class Kind:
+    """A task, constraint, interpolator or feedback type.
+
+    ``subject`` is what its single argument names (a joint group or a body; ``None``
+    for interpolators and feedback laws) and ``space`` what its target lives in.
+    """
+
+    name: str
+    parameters: tuple[Parameter, ...]
+    subject: str | None = None
+    space: str | None = None
+    doc: str = ""
+
+    def parameter(self, name: str) -> Parameter | None:
+        return next((p for p in self.parameters if p.name == name), None)
+
+    @property
+    def parameter_names(self) -> list[str]:
+        return [p.name for p in self.parameters]
+
+
+T = TypeVar("T", bound=Kind)
+
+
+class Registry(Generic[T]):
+    """Named kinds of one family (tasks, constraints...); ``register`` adds one."""
+
+    def __init__(self, family: str):
+        self.family = family
+        self._kinds: dict[str, T] = {}
+
+    def register(self, kind: T) -> T:
+        self._kinds[kind.name] = kind
+        return kind
+
+    def get(self, name: str) -> T | None:
+        return self._kinds.get(name)
+
+    def names(self) -> list[str]:
+        return list(self._kinds)
+
+
+TASKS: Registry[Kind] = Registry("task type")
+CONSTRAINTS: Registry[Kind] = Registry("constraint type")
+INTERPOLATORS: Registry[Kind] = Registry("interpolator")
+FEEDBACKS: Registry[Kind] = Registry("feedback law")
+
+
+def _task_parameters(body: bool) -> tuple[Parameter, ...]:
+    common = (
+        Parameter("target", TARGET, settable=True, default="current",
+                  doc="what to reach; default: hold the state at enable"),
+        Parameter("interpolator", INTERPOLATOR, default="none",
+                  doc="how the reference moves to the target"),
+        Parameter("feedback", FEEDBACK, default="proportional",
+                  doc="how the error becomes a velocity"),
+        Parameter("priority", INTEGER, default=0, doc="0 is highest (strict hierarchy)"),
+        Parameter("weight", SCALAR, default=1.0, settable=True, non_negative=True,
+                  doc="relative weight (weighted hierarchy)"),
+        Parameter("gain", SCALAR, settable=True, non_negative=True,
+                  doc="proportional gain [1/s] replacing the feedback's own"),
+    )
+    if body:
+        return (Parameter("reference", BODY, default="world",
+                          doc="frame the target is expressed in"),) + common
+    return common
+
+
+for _name, _subject, _space, _doc in (
+        ("joint_position", JOINT_GROUP, JOINT_SPACE, "joint positions of a group"),
+        ("joint_velocity", JOINT_GROUP, JOINT_VELOCITY_SPACE, "joint velocities of a group"),
+        ("body_position", BODY_SUBJECT, POSITION_SPACE, "position of a body's origin"),
+        ("body_orientation", BODY_SUBJECT, ORIENTATION_SPACE, "orientation of a body"),
+        ("body_pose", BODY_SUBJECT, POSE_SPACE, "position and orientation of a body"),
+        ("body_velocity", BODY_SUBJECT, TWIST_SPACE, "linear and angular velocity of a body"),
+):
+    TASKS.register(Kind(_name, _task_parameters(_subject == BODY_SUBJECT), _subject, _space,
+                        _doc))
+
+CONSTRAINTS.register(Kind("joint_kinematic", (
+    Parameter("min_position", PER_DOF, POSITION, settable=True,
+              doc="default: the URDF's lower limits"),
+    Parameter("max_position", PER_DOF, POSITION, settable=True,
+              doc="default: the URDF's upper limits"),
+    Parameter("max_velocity", PER_DOF, VELOCITY, settable=True, non_negative=True,
+              doc="default: the URDF's velocity limits"),
+    Parameter("max_acceleration", PER_DOF, ACCELERATION, settable=True, non_negative=True,
+              doc="default: not limited"),
+), JOINT_GROUP, JOINT_SPACE, "joint position, velocity and acceleration limits"))
+
+CONSTRAINTS.register(Kind("body_velocity", (
+    Parameter("reference", BODY, default="world", doc="frame the velocity is measured in"),
+    Parameter("max_linear", SCALAR, LINEAR_VELOCITY, settable=True, non_negative=True,
+              doc="bound on the linear speed; default: not limited"),
+    Parameter("max_angular", SCALAR, ANGULAR_VELOCITY, settable=True, non_negative=True,
+              doc="bound on the angular speed; default: not limited"),
+), BODY_SUBJECT, TWIST_SPACE, "bounds on a body's velocity"))
+
+INTERPOLATORS.register(Kind("otg", (
+    Parameter("max_velocity", PER_DOF, VELOCITY, required=True, non_negative=True),
+    Parameter("max_acceleration", PER_DOF, ACCELERATION, required=True, non_negative=True),
+), doc="online trajectory generation (ruckig), time-optimal under the limits"))
+for _name in ("linear", "cubic", "quintic"):
+    INTERPOLATORS.register(Kind(_name, (Parameter("duration", SCALAR, TIME, required=True,
+                                                          non_negative=True),),
+                                doc=f"{_name} interpolation over a fixed duration"))
+INTERPOLATORS.register(Kind("none", (), doc="the reference jumps to the target"))
+
+FEEDBACKS.register(Kind("proportional", (
+    Parameter("gain", SCALAR, default=1.0, non_negative=True, doc="[1/s]"),), doc="velocity = gain * error"))
+FEEDBACKS.register(Kind("pid", (
+    Parameter("kp", SCALAR, default=1.0, non_negative=True),
+    Parameter("ki", SCALAR, default=0.0, non_negative=True),
+    Parameter("kd", SCALAR, default=0.0, non_negative=True)), doc="proportional, integral, derivative"))

@@ -1,0 +1,89 @@
+"""The Python entry point: ``load_mission(path)`` -> :class:`Mission`, whose
+``runner()`` builds everything a run needs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from ..compile import spec as s
+from ..compile.load import check_file
+from ..control import Kinematics
+from ..diagnostics import DiagnosticError, RobocopError
+from .build import build_controller, build_program
+from .driver import SimulatedDriver
+from .runner import Runner
+
+
+class Mission:
+    """A checked, compiled mission bound to its world.
+
+    Attributes:
+        spec: The compiled mission (:class:`robocop_dsl.compile.spec.MissionSpec`).
+        world: The world it runs in.
+    """
+
+    def __init__(self, spec: s.MissionSpec, world):
+        self.spec = spec
+        self.world = world
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    @property
+    def path(self) -> Path:
+        return Path(self.spec.source.path)
+
+    def __repr__(self) -> str:
+        return f"Mission({self.name}, {len(self.spec.states)} states, world={self.world.path.name})"
+
+    def runner(self, solver: str | None = None, hierarchy: str | None = None,
+               time_step: float | None = None, initial: np.ndarray | None = None,
+               body_placements: dict | None = None, driver=None) -> Runner:
+        """A runner on a private copy of the world's model.
+
+        Args:
+            solver: QP solver name; ``None`` keeps the controller processor's.
+            hierarchy: ``strict`` or ``weighted``; ``None`` keeps the processor's.
+            time_step: Control period [s]; ``None`` keeps the processor's.
+            initial: Start configuration (``model.nq``); default the world's ``initial:``.
+            body_placements: ``{body: 4x4 world pose}`` for bodies fixed to the world.
+            driver: A driver (``read``/``write``/``hold``); default a simulated one.
+
+        Raises:
+            DiagnosticError: an option the world or the controller refuses.
+        """
+        world = self.world.copy()
+        kinematics = Kinematics(world)
+        for body, pose in (body_placements or {}).items():
+            kinematics.place(body, "world", pin.SE3(np.asarray(pose, dtype=float)))
+        try:
+            controller = build_controller(self.spec, world, kinematics, solver=solver,
+                                          hierarchy=hierarchy, time_step=time_step)
+        except RobocopError as error:
+            raise DiagnosticError([self.spec.source.error(
+                "run-options", str(error), None, "check --solver, --hierarchy and the "
+                "controller processor's options")]) from None
+        if driver is None:
+            driver = SimulatedDriver(world, controller.joint_group.name, controller.time_step,
+                                     initial)
+        return Runner(build_program(self.spec), controller, driver, self.name)
+
+
+def load_mission(path: str | Path, world=None) -> Mission:
+    """Parse, check and compile a mission file.
+
+    Args:
+        path: The ``.mission`` file.
+        world: A world to use instead of the one the mission names (a variant).
+
+    Raises:
+        DiagnosticError: every diagnostic of the file when it has an error.
+    """
+    checked = check_file(path, world=world)
+    if checked.mission is None:
+        raise DiagnosticError(checked.diagnostics)
+    return Mission(checked.mission, checked.world)

@@ -1,0 +1,122 @@
+"""``robocop-mission check``: output formats and exit codes."""
+
+import argparse
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from robocop_dsl.cli import check_cmd
+
+REPO = Path(__file__).resolve().parent.parent
+INVALID = REPO / "tests" / "fixtures" / "invalid"
+# The command as the entry point dispatches it: add_parser, then args.command(args).
+HARNESS = ("import argparse, sys\n"
+           "from robocop_dsl.cli import check_cmd\n"
+           "parser = argparse.ArgumentParser(prog='robocop-mission')\n"
+           "check_cmd.add_parser(parser.add_subparsers(dest='name', required=True))\n"
+           "args = parser.parse_args(sys.argv[1:])\n"
+           "sys.exit(args.command(args))\n")
+
+
+def check(*argv: str) -> int:
+    parser = argparse.ArgumentParser(prog="robocop-mission")
+    check_cmd.add_parser(parser.add_subparsers(dest="name", required=True))
+    try:
+        args = parser.parse_args(["check", *argv])
+    except SystemExit as exit_:
+        return exit_.code
+    return args.command(args)
+
+
+def test_missions_are_ok(capsys):
+    """Each clean file prints FILE: OK; exit 0."""
+    files = sorted(str(p.relative_to(REPO)) for p in (REPO / "missions").glob("*.mission"))
+    assert check(*[str(REPO / f) for f in files]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out == [f"{REPO / f}: OK" for f in files]
+
+
+def test_errors_rendered_with_source_caret_and_hint(capsys):
+    """Diagnostics as FILE:LINE:COL: error[CODE]: message, source, caret, hint; exit 1."""
+    path = INVALID / "unknown_state.mission"
+    assert check(str(path)) == 1
+    assert capsys.readouterr().out == (
+        f"{path}:28:26: error[unknown-state]: unknown state 'aproach'\n"
+        " 28 |     when arms.reached -> aproach\n"
+        "    |                          ^^^^^^^\n"
+        "   = hint: did you mean 'approach'?\n\n"
+        f"{path}:32:7: warning[unreachable-state]: state 'approach' cannot be reached "
+        "from 'ready'\n"
+        " 32 | state approach {\n"
+        "    |       ^^^^^^^^\n"
+        "   = hint: no clause leads to it: remove it or add a 'when ... ->' to it\n\n"
+        f"{path}:43:7: warning[unreachable-state]: state 'done' cannot be reached from "
+        "'ready'\n"
+        " 43 | final done\n"
+        "    |       ^^^^\n"
+        "   = hint: no clause leads to it: remove it or add a 'when ... ->' to it\n\n"
+        f"{path}: 1 error, 2 warnings\n")
+
+
+def test_warnings_alone_exit_zero_unless_strict(capsys):
+    """Warnings do not fail the check; --strict turns them into errors."""
+    path = str(INVALID / "unreachable_state.mission")
+    assert check(path) == 0
+    assert capsys.readouterr().out.endswith(f"{path}: 1 warning\n")
+    assert check(path, "--strict") == 1
+    out = capsys.readouterr().out
+    assert "error[unreachable-state]" in out and out.endswith(f"{path}: 1 error\n")
+
+
+def test_json_format(capsys):
+    """--format json: one entry per file with its diagnostics."""
+    good, bad = REPO / "missions" / "pickup.mission", INVALID / "missing_arrow.mission"
+    assert check(str(good), str(bad), "--format", "json") == 1
+    report = json.loads(capsys.readouterr().out)
+    assert [(r["file"], r["ok"]) for r in report] == [(str(good), True), (str(bad), False)]
+    diagnostic = report[1]["diagnostics"][0]
+    assert diagnostic["code"] == "missing-token"
+    assert diagnostic["span"] == {"line": 28, "column": 23, "end_line": 28, "end_column": 31}
+    assert diagnostic["hint"] == "a transition is written 'when CONDITION -> STATE'"
+
+
+def test_github_format(capsys):
+    """--format github: workflow commands that annotate the line."""
+    path = INVALID / "unknown_unit.mission"
+    assert check(str(path), "--format", "github") == 1
+    assert capsys.readouterr().out == (
+        f"::error file={path},line=7,col=26,endLine=7,endColumn=28,title=unknown-unit::"
+        "unknown unit 'kg' (hint: units: m, cm, mm, rad, deg, s, ms, m/s, cm/s, mm/s, "
+        "rad/s, deg/s, m/s^2, rad/s^2, deg/s^2)\n")
+
+
+def test_usage_errors_exit_two(capsys):
+    """A missing file, no file or a bad option is a usage error."""
+    assert check("no/such.mission") == 2
+    assert "no such file: no/such.mission" in capsys.readouterr().err
+    assert check() == 2
+    assert check(str(REPO / "missions" / "pickup.mission"), "--format", "xml") == 2
+
+
+@pytest.mark.parametrize("name, code", [("pickup.mission", 0), ("missing.mission", 2)])
+def test_from_a_real_process(name, code):
+    """Run as a process: exit code and output as a shell sees them."""
+    path = REPO / "missions" / name
+    done = subprocess.run([sys.executable, "-c", HARNESS, "check", str(path)],
+                          capture_output=True, text=True, cwd=REPO)
+    assert done.returncode == code
+    if code == 0:
+        assert done.stdout == f"{path}: OK\n"
+
+
+def test_bad_file_from_a_real_process():
+    """A broken mission exits 1 and prints every diagnostic."""
+    path = INVALID / "several_syntax_errors.mission"
+    done = subprocess.run([sys.executable, "-c", HARNESS, "check", str(path)],
+                          capture_output=True, text=True, cwd=REPO)
+    assert done.returncode == 1
+    assert done.stdout.count("error[") == 4
+    assert done.stderr == ""

@@ -1,0 +1,190 @@
+"""The viewer's scene on the real BAZAR world: options, geometry poses, targets, labels
+and the camera's starting view."""
+
+from types import SimpleNamespace
+
+import meshcat
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from robocop_dsl.runtime.records import CycleRecord, TaskView
+from robocop_dsl.viewer import Scene, ViewerError, ViewerOptions, viewer_options
+from robocop_dsl.viewer.commands import CommandLog
+from robocop_dsl.viewer.geometry import WorldGeometry
+from robocop_dsl.world import Processor
+
+LEFT_TOOL = "bazar_left_hankamp_tool_object_side"
+
+
+def expected_geometry_pose(world, geometry, q):
+    """A geometry's world pose computed the long way: its body's pose, then its offset."""
+    frame = world.model.frames[geometry.parentFrame]
+    body = world.body_pose(frame.name, q)
+    return (body * frame.placement.inverse() * geometry.placement).homogeneous
+
+
+def record(world, q, state="approach", tasks=(), body_poses=None):
+    return CycleRecord(cycle=0, time=0.0, state=state, q=q, positions=q, command=q * 0,
+                       solved=True, tasks=tuple(tasks), body_poses=body_poses or {})
+
+
+def loaded_scene(world, *records):
+    """A scene loaded into a command log, with the markers and labels of ``records``."""
+    log = CommandLog()
+    visualizer = meshcat.Visualizer(window=log)
+    scene = Scene(world)
+    scene.load(visualizer)
+    for item in records:
+        scene.load_new(visualizer, item)
+    return scene, log
+
+
+def test_options_come_from_the_meshcat_processor(bazar):
+    """The world's `viewer: {type: meshcat, options: {period: 40ms}}` gives 0.04 s."""
+    assert viewer_options(bazar) == ViewerOptions(period=0.04)
+
+
+def test_options_default_without_a_viewer_processor():
+    """A world without a meshcat processor gets the default period."""
+    world = SimpleNamespace(processors={"driver": Processor("driver", "simulated", {})})
+    assert viewer_options(world).period == pytest.approx(0.04)
+
+
+@pytest.mark.parametrize("period", [0, -0.1, "fast", float("inf")])
+def test_bad_period_is_an_error(period):
+    """A period that is not a positive duration is refused, naming the value."""
+    world = SimpleNamespace(processors={"viewer": Processor("viewer", "meshcat",
+                                                            {"period": period})})
+    with pytest.raises(ViewerError, match="positive duration"):
+        viewer_options(world)
+
+
+def test_geometry_follows_the_configuration(bazar):
+    """Every geometry is drawn at its body's pose, for a configuration that moves the arms."""
+    geometry = WorldGeometry(bazar)
+    q = bazar.initial_configuration()
+    q[bazar.joint_group("bazar_arms").q_indices] += 0.3
+    poses = geometry.poses(q)
+    for path, item in zip(geometry.paths, bazar.visual_model.geometryObjects):
+        np.testing.assert_allclose(poses[path], expected_geometry_pose(bazar, item, q),
+                                   atol=1e-12)
+
+
+def test_attached_body_geometry_follows_its_reported_pose(bazar):
+    """The part's cube is drawn where the run says the attached part is."""
+    geometry = WorldGeometry(bazar)
+    q = bazar.initial_configuration()
+    part = np.eye(4)
+    part[:3, 3] = [0.5, 0.1, 1.2]
+    poses = geometry.poses(q, {"part_body": part})
+    (path,) = geometry.paths_of("part_body")
+    np.testing.assert_allclose(poses[path], part, atol=1e-12)
+
+
+def test_scene_has_robot_and_environment_bodies(bazar):
+    """Loading sends a shape for every body with visual geometry: robot links, workbench,
+    part and camera."""
+    scene, log = loaded_scene(bazar)
+    objects = {c["path"] for c in log.commands if c["type"] == "set_object"}
+    bodies = scene.geometry.body_names()
+    assert {"workbench", "part_body", "kinect2_link", "bazar_left_link_7",
+            "bazar_right_hankamp_tool_robot_side"} <= set(bodies)
+    for body in bodies:
+        for path in scene.geometry.paths_of(body):
+            assert f"/meshcat/{path}" in objects
+
+
+def test_camera_frames_robot_and_workbench(bazar):
+    """The camera looks at the middle of robot and workbench from outside both."""
+    scene = Scene(bazar)
+    centre, position = scene.camera
+    q = bazar.initial_configuration()
+    for body in ("workbench", "bazar_torso", LEFT_TOOL):
+        to_body = bazar.body_pose(body, q).translation - position
+        to_centre = centre - position
+        cosine = to_body @ to_centre / np.linalg.norm(to_body) / np.linalg.norm(to_centre)
+        assert np.degrees(np.arccos(cosine)) < 37.5     # inside meshcat's 75 deg view
+    lower, upper = scene.geometry.bounds(q)
+    assert np.any(position < lower) or np.any(position > upper)
+
+
+def test_camera_commands_centre_the_view(bazar):
+    """The camera is set with plain commands: the scene is shifted by -centre and the
+    camera placed relative to the centre, in meshcat's y-up camera frame."""
+    scene, log = loaded_scene(bazar)
+    centre, position = scene.camera
+    shifts = {c["path"]: np.array(c["matrix"]).reshape(4, 4).T for c in log.commands
+              if c["type"] == "set_transform" and c["path"] in ("/meshcat", "/Grid", "/Axes")}
+    assert set(shifts) == {"/meshcat", "/Grid", "/Axes"}
+    for shift in shifts.values():
+        np.testing.assert_allclose(shift[:3, 3], -centre)
+    (camera,) = [c for c in log.commands if c["type"] == "set_property"
+                 and c["path"] == "/Cameras/default/rotated/<object>"]
+    x, y, z = position - centre
+    np.testing.assert_allclose(camera["value"], [x, z, -y])
+
+
+def test_pose_target_and_reference_markers(bazar):
+    """A pose task shows a triad at its target and a smaller ghost at its reference."""
+    q = bazar.initial_configuration()
+    target = bazar.body_pose("pickup_point", q).homogeneous
+    reference = bazar.body_pose(LEFT_TOOL, q).homogeneous
+    task = TaskView("left_tool", "pose", LEFT_TOOL, 0.1, target, reference)
+    item = record(bazar, q, tasks=[task])
+    scene, log = loaded_scene(bazar, item)
+    frame = scene.frame(item)
+    np.testing.assert_allclose(frame.poses["targets/left_tool/target"], target)
+    np.testing.assert_allclose(frame.poses["targets/left_tool/reference"], reference)
+    assert frame.visible["targets/left_tool/target"] is True
+    axes = [c for c in log.commands if c["type"] == "set_object"
+            and c["path"].startswith("/meshcat/targets/left_tool/")]
+    heights = {c["path"]: c["object"]["geometries"][0]["height"] for c in axes}
+    assert len(axes) == 6
+    assert heights["/meshcat/targets/left_tool/reference/x"] < \
+        heights["/meshcat/targets/left_tool/target/x"]
+
+
+def test_position_target_is_a_sphere_and_joint_tasks_have_no_marker(bazar):
+    """A position task shows spheres; a joint task has nothing to show in space."""
+    q = bazar.initial_configuration()
+    tasks = [TaskView("reach", "position", LEFT_TOOL, 0.1, np.array([0.5, 0.2, 1.0]),
+                      np.array([0.4, 0.2, 1.1])),
+             TaskView("arms", "joint", None, 0.1, np.zeros(14), np.zeros(14))]
+    item = record(bazar, q, tasks=tasks)
+    scene, log = loaded_scene(bazar, item)
+    spheres = [c for c in log.commands if c["type"] == "set_object"
+               and c["path"].startswith("/meshcat/targets/reach/")]
+    assert {c["object"]["geometries"][0]["type"] for c in spheres} == {"SphereGeometry"}
+    assert scene.frame(item).poses["targets/reach/target"][:3, 3].tolist() == [0.5, 0.2, 1.0]
+    assert not any("/targets/arms" in c["path"] for c in log.commands)
+
+
+def test_orientation_target_is_drawn_at_its_body(bazar):
+    """An orientation target has no position of its own: its triad sits on the body."""
+    q = bazar.initial_configuration()
+    rotation = np.eye(4)
+    rotation[:3, :3] = pin.rpy.rpyToMatrix(np.pi, 0, 0)
+    task = TaskView("tool_down", "orientation", LEFT_TOOL, 0.1, rotation, rotation)
+    item = record(bazar, q, tasks=[task])
+    scene, _ = loaded_scene(bazar, item)
+    pose = scene.frame(item).poses["targets/tool_down/target"]
+    np.testing.assert_allclose(pose[:3, 3], bazar.body_pose(LEFT_TOOL, q).translation)
+    np.testing.assert_allclose(pose[:3, :3], rotation[:3, :3])
+
+
+def test_disabled_task_markers_and_inactive_labels_are_hidden(bazar):
+    """Once a task is no longer in the records its markers hide; only the active
+    state's label shows."""
+    q = bazar.initial_configuration()
+    task = TaskView("reach", "position", LEFT_TOOL, 0.1, np.ones(3), np.ones(3))
+    first = record(bazar, q, state="approach", tasks=[task])
+    second = record(bazar, q, state="grasp")
+    scene, log = loaded_scene(bazar, first, second)
+    visible = scene.frame(second).visible
+    assert visible == {"targets/reach/target": False, "targets/reach/reference": False,
+                       "states/approach": False, "states/grasp": True}
+    labels = [c for c in log.commands if c["type"] == "set_object"
+              and c["path"].startswith("/meshcat/states/")]
+    assert [c["object"]["object"]["type"] for c in labels] == ["Sprite", "Sprite"]
+    assert [c["object"]["textures"][0]["text"] for c in labels] == ["approach", "grasp"]
