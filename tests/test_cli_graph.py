@@ -34,7 +34,8 @@ def test_mermaid(capsys):
     """Mermaid state diagram with the top-level guard drawn once."""
     assert graph(str(REPO / "missions" / "panda_reach.mission"), "--format", "mermaid") == 0
     out = capsys.readouterr().out.splitlines()
-    assert out[:3] == ["stateDiagram-v2", "    [*] --> home", "    home --> above : posture.reached"]
+    assert out[:3] == ["stateDiagram-v2", "    [*] --> home",
+                       "    home --> above : posture.reached"]
     assert out.count("    __any --> failed : controller.failed") == 1
     assert "    class failed failure" in out
 

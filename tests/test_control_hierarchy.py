@@ -54,10 +54,10 @@ def test_strict_lower_level_never_degrades_higher(bazar):
     assert not np.allclose(full.velocity, alone.velocity, atol=1e-4)
 
 
-@pytest.mark.parametrize("hierarchy", ["weighted", "strict"])
-@pytest.mark.parametrize("solver", ["quadprog", "daqp"])
+@pytest.mark.parametrize("hierarchy, solver", [("weighted", "quadprog"), ("weighted", "daqp"),
+                                               ("strict", "daqp")])
 def test_second_solver_agrees(bazar, hierarchy, solver):
-    """quadprog and daqp give the proxqp command to 1e-5."""
+    """A second backend gives the proxqp command to 1e-5."""
     reference, q = bazar_problem(bazar, hierarchy)
     other, _ = bazar_problem(bazar, hierarchy, solver)
     for _ in range(20):
@@ -117,8 +117,7 @@ def test_reached_and_reset(panda):
     controller = Controller(panda, "panda_arm", 0.002)
     q = panda.initial_configuration()
     target = q[controller.state.q_indices] + 0.05
-    task = controller.add_task("joint_position", "posture", "panda_arm", target=target,
-                               interpolator="linear", gain=20)
+    task = controller.add_task("joint_position", "posture", "panda_arm", target=target, gain=20)
     task.set_interpolator("linear", duration=0.1)
     task.enable()
     assert not task.reached

@@ -12,7 +12,7 @@ from PIL import Image
 from robocop_dsl.viewer import LiveViewer, ReplayRecorder, Scene, write_replay
 from robocop_dsl.viewer.camera import set_camera
 from robocop_dsl.viewer.commands import CommandLog
-from viewer_synthetic import synthetic_run
+from viewer_runs import synthetic_run
 
 CHROMIUM = shutil.which("chromium")
 pytestmark = pytest.mark.skipif(

@@ -15,7 +15,7 @@ from robocop_dsl.viewer import (LiveViewer, MeshcatServer, ViewerConnectionError
                                 ViewerOptions)
 from robocop_dsl.viewer.commands import unpack
 from robocop_dsl.viewer.geometry import WorldGeometry
-from viewer_synthetic import synthetic_run
+from viewer_runs import synthetic_run
 
 SYNC = 60.0     # [s] a hang guard only; publishing takes a fraction of it
 
@@ -160,3 +160,44 @@ def test_unreachable_server_is_an_error(bazar):
     with pytest.raises(ViewerConnectionError, match="did not answer") as error:
         LiveViewer(bazar, zmq_url=url, timeout=0.2)
     assert error.value.zmq_url == url
+
+
+class LastRecord:
+    """An observer keeping the last cycle's record."""
+
+    def __init__(self):
+        self.record = None
+
+    def on_start(self, runner):
+        pass
+
+    def on_cycle(self, record):
+        self.record = record
+
+    def on_event(self, event):
+        pass
+
+    def on_stop(self, result):
+        pass
+
+
+def killed_viewer(world):
+    viewer = LiveViewer(world, timeout=0.5)
+    viewer.server.process.kill()
+    viewer.server.process.wait()
+    return viewer
+
+
+@pytest.mark.parametrize("make_viewer", [LiveViewer, killed_viewer], ids=["live", "dead"])
+def test_viewer_changes_nothing_in_the_run(make_viewer):
+    """The pickup mission takes the same transitions and ends in the same posture with a
+    live viewer, or one whose server died, as without a viewer."""
+    headless, (alone,) = pickup_run(lambda world: [LastRecord()])
+    watched, (last, viewer) = pickup_run(lambda world: [LastRecord(), make_viewer(world)])
+    viewer.close()
+    assert watched.outcome == headless.outcome == "success"
+    assert watched.cycles == headless.cycles
+    assert [(t.time, t.target) for t in watched.transitions] == \
+        [(t.time, t.target) for t in headless.transitions]
+    np.testing.assert_array_equal(last.record.q, alone.record.q)
+    assert len(viewer.problems) == (1 if viewer.server.process.returncode == -9 else 0)

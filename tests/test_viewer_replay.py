@@ -4,9 +4,10 @@ enabled task's target is there, one frame per viewer period, poses as in the run
 import numpy as np
 import pytest
 
+from robocop_dsl.runtime import read_timeseries
 from robocop_dsl.viewer import ReplayRecorder, ViewerError, read_replay, viewer_options
 from robocop_dsl.viewer.geometry import WorldGeometry
-from viewer_synthetic import STATES, synthetic_run
+from viewer_runs import STATES, pickup_run, synthetic_run
 
 PERIOD = 0.04
 
@@ -209,3 +210,106 @@ def test_reading_a_page_that_is_not_a_replay(tmp_path):
     page.write_text("<html></html>")
     with pytest.raises(ViewerError, match="not a replay file"):
         read_replay(page)
+
+
+@pytest.fixture(scope="module")
+def pickup(tmp_path_factory):
+    """The pickup mission run once with a recorder and a log: result, recorder, decoded
+    replay and logged time series."""
+    folder = tmp_path_factory.mktemp("pickup")
+    result, (recorder,) = pickup_run(
+        lambda world: [ReplayRecorder(world, folder / "pickup.html", viewer_options(world))],
+        folder / "log")
+    assert result.outcome == "success" and recorder.problems == []
+    return result, recorder, read_replay(recorder.path), read_timeseries(folder / "log")
+
+
+def logged_configuration(world, log, row):
+    """The world's configuration at a row of the logged time series."""
+    q = world.initial_configuration()
+    for column, values in log.items():
+        if column.startswith("q."):
+            joint = world.model.joints[world.model.getJointId(column[2:])]
+            q[joint.idx_q] = values[row]
+    return q
+
+
+def frame_rows(log, frames):
+    """The log row shown by each frame: the latest at or before the frame's time."""
+    times = log["time"]
+    return [int(np.searchsorted(times, times[0] + i * PERIOD + 1e-9, side="right")) - 1
+            for i in range(frames)]
+
+
+def test_pickup_replay_has_every_body_and_enabled_target(bazar, pickup):
+    """The recorded pickup holds the robot, workbench, part, camera, the markers of the
+    Cartesian task it enabled, and a label for every state it went through."""
+    _, _, commands, log = pickup
+    objects = {c["path"] for c in commands if c["type"] == "set_object"}
+    geometry = WorldGeometry(bazar)
+    for body in geometry.body_names():
+        for path in geometry.paths_of(body):
+            assert f"/meshcat/{path}" in objects, body
+    enabled = {c[len("error."):] for c in log if c.startswith("error.")}
+    assert enabled == {"arms", "left_tool"}
+    for which in ("target", "reference"):
+        assert f"/meshcat/targets/left_tool/{which}/x" in objects
+    assert not any("/targets/arms" in p for p in objects)
+    assert {f"/meshcat/states/{s}" for s in set(log["state"])} <= objects
+
+
+def test_pickup_replay_has_one_frame_per_viewer_period(pickup):
+    """Frames cover the run at 40 ms each, the last one showing the final cycle; every
+    track has a key at every frame."""
+    _, recorder, commands, log = pickup
+    frames = int(np.ceil((log["time"][-1] - log["time"][0]) / PERIOD - 1e-9)) + 1
+    assert len(recorder.frame_records) == frames
+    assert recorder.frame_records[-1].state == log["state"][-1] == "done"
+    tracks, rates = tracks_by_path(commands)
+    assert len(rates) == 1 and rates.pop() == pytest.approx(1 / PERIOD)
+    for path, properties in tracks.items():
+        for keys in properties.values():
+            assert [frame for frame, _ in keys] == list(range(frames)), path
+
+
+def test_pickup_replay_robot_poses_match_the_log(bazar, pickup):
+    """At every frame each robot link is where the logged joint positions put it."""
+    _, recorder, commands, log = pickup
+    tracks, _ = tracks_by_path(commands)
+    geometry = WorldGeometry(bazar)
+    robot = [p for body in geometry.body_names() if body.startswith("bazar_")
+             for p in geometry.paths_of(body)]
+    rows = frame_rows(log, len(recorder.frame_records))
+    for frame, row in enumerate(rows):
+        expected = geometry.poses(logged_configuration(bazar, log, row))
+        for path in robot:
+            key = f"/meshcat/{path}"
+            drawn = animated_pose(tracks[key], frame) if key in tracks \
+                else static_pose(commands, key)
+            np.testing.assert_allclose(drawn, expected[path], atol=1e-9, err_msg=path)
+
+
+def test_pickup_replay_targets_and_labels_follow_the_log(pickup):
+    """The tool's target shows exactly while the log has its error; the label shown is
+    the logged state."""
+    _, recorder, commands, log = pickup
+    tracks, _ = tracks_by_path(commands)
+    target = dict(tracks["/meshcat/targets/left_tool/target"][".visible"])
+    labels = {path.rsplit("/", 1)[1]: dict(properties[".visible"])
+              for path, properties in tracks.items() if path.startswith("/meshcat/states/")}
+    for frame, row in enumerate(frame_rows(log, len(recorder.frame_records))):
+        assert target[frame] == (not np.isnan(log["error.left_tool"][row]))
+        assert [state for state, shown in labels.items() if shown[frame]] == \
+            [log["state"][row]]
+
+
+def test_pickup_part_is_carried_and_left_at_the_drop(bazar, pickup):
+    """The part leaves the workbench with the tool and stays where it was released."""
+    _, recorder, commands, _ = pickup
+    tracks, _ = tracks_by_path(commands)
+    (path,) = WorldGeometry(bazar).paths_of("part_body")
+    part = tracks[f"/meshcat/{path}"]
+    first, last = animated_pose(part, 0), animated_pose(part, len(recorder.frame_records) - 1)
+    drop = bazar.body_pose("drop_point", bazar.initial_configuration()).translation
+    np.testing.assert_allclose(first[:3, 3], [0.7, 0.2, 0.76], atol=1e-9)
+    np.testing.assert_allclose(last[:3, 3], drop, atol=2e-3)

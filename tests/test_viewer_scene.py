@@ -95,18 +95,24 @@ def test_scene_has_robot_and_environment_bodies(bazar):
             assert f"/meshcat/{path}" in objects
 
 
-def test_camera_frames_robot_and_workbench(bazar):
-    """The camera looks at the middle of robot and workbench from outside both."""
+def test_camera_frames_robot_workbench_and_label(bazar):
+    """Every corner of every body, and the state label, is in the camera's 75 degree
+    view of a 4:3 page, and the view is not much wider than needed."""
     scene = Scene(bazar)
     centre, position = scene.camera
-    q = bazar.initial_configuration()
-    for body in ("workbench", "bazar_torso", LEFT_TOOL):
-        to_body = bazar.body_pose(body, q).translation - position
-        to_centre = centre - position
-        cosine = to_body @ to_centre / np.linalg.norm(to_body) / np.linalg.norm(to_centre)
-        assert np.degrees(np.arccos(cosine)) < 37.5     # inside meshcat's 75 deg view
-    lower, upper = scene.geometry.bounds(q)
-    assert np.any(position < lower) or np.any(position > upper)
+    points = np.vstack([scene.geometry.corners(bazar.initial_configuration()),
+                        scene.label_position])
+    forward = (centre - position) / np.linalg.norm(centre - position)
+    right = np.cross(forward, [0, 0, 1])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    depth = (points - position) @ forward
+    vertical = np.abs((points - position) @ up) / depth
+    horizontal = np.abs((points - position) @ right) / depth
+    half_height = np.tan(np.radians(75) / 2)
+    assert np.all(depth > 0)
+    assert np.all(vertical <= half_height) and np.all(horizontal <= half_height * 4 / 3)
+    assert max(vertical.max() / half_height, horizontal.max() / half_height / (4 / 3)) > 0.8
 
 
 def test_camera_commands_centre_the_view(bazar):

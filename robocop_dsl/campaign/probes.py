@@ -53,7 +53,7 @@ class Probe(Observer):
         self._names: list = []
 
     def on_start(self, runner) -> None:
-        group = runner.controller.group
+        group = runner.controller.joint_group
         self._lower, self._upper = np.asarray(group.lower), np.asarray(group.upper)
         self._names = list(runner.joint_names)
 

@@ -112,7 +112,7 @@ def _run(job, cache: WorkerCache) -> dict:
         prepared = prepare(job, cache)
         runner = prepared.runner
         row.update(prepared.conditions.parameters)
-        _effective_settings(row, prepared.mission, runner)
+        _effective_settings(row, runner)
         runner.add_observer(probe)
         runner.add_observer(budget)
         budget.check()
@@ -137,15 +137,8 @@ def _progress(runner) -> dict:
     return {"final_state": runner.state, "mission_time": runner.time, "cycles": runner.cycle}
 
 
-def _effective_settings(row: dict, mission, runner) -> None:
-    """Fill the settings the campaign left to the world with the world's values."""
-    options = {}
-    for processor in mission.world.processors.values():
-        if processor.type == "qp_controller":
-            options = processor.options
-            break
-    for name in ("solver", "hierarchy"):
-        if row[name] is None:
-            row[name] = options.get(name)
-    if row["time_step"] is None:
-        row["time_step"] = runner.time_step
+def _effective_settings(row: dict, runner) -> None:
+    """The controller settings the run uses, the world's where the campaign sets none."""
+    controller = runner.controller
+    row.update(solver=controller.solver, hierarchy=controller.hierarchy,
+               time_step=controller.time_step)

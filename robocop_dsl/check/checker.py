@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import networkx as nx
 
-from ..diagnostics import Diagnostic, SourceFile
+from ..diagnostics import SourceFile
 from ..lang import ast
 from .context import CheckContext
 from .declarations import check_controller, check_declarations, check_header, collect_symbols
@@ -37,7 +37,3 @@ def check_graph(ctx: CheckContext, mission: ast.Mission, graph: nx.DiGraph) -> N
 def first_state(ctx: CheckContext, mission: ast.Mission) -> str | None:
     """The state the mission starts in, if it is a declared state."""
     return start_state(ctx, mission)
-
-
-def errors(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
-    return [d for d in diagnostics if d.is_error]

@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
 
-from .units import (ANGULAR_VELOCITY, DIMENSIONLESS, LINEAR_VELOCITY, TIME)
+from .units import ANGULAR_VELOCITY, DIMENSIONLESS, LINEAR_VELOCITY, TIME
 
 POSITION = "position"
 VELOCITY = "velocity"
@@ -171,8 +171,10 @@ for _name in ("linear", "cubic", "quintic"):
 INTERPOLATORS.register(Kind("none", (), doc="the reference jumps to the target"))
 
 FEEDBACKS.register(Kind("proportional", (
-    Parameter("gain", SCALAR, default=1.0, non_negative=True, doc="[1/s]"),), doc="velocity = gain * error"))
+    Parameter("gain", SCALAR, default=1.0, non_negative=True, doc="[1/s]"),),
+    doc="velocity = gain * error"))
 FEEDBACKS.register(Kind("pid", (
     Parameter("kp", SCALAR, default=1.0, non_negative=True),
     Parameter("ki", SCALAR, default=0.0, non_negative=True),
-    Parameter("kd", SCALAR, default=0.0, non_negative=True)), doc="proportional, integral, derivative"))
+    Parameter("kd", SCALAR, default=0.0, non_negative=True)),
+    doc="proportional, integral, derivative"))

@@ -63,10 +63,11 @@ class StatementBreaks(PostLex):
 
 @functools.lru_cache(maxsize=None)
 def mission_grammar() -> Lark:
-    """The mission parser, built once from ``mission.lark``."""
+    """The mission parser, built once from ``mission.lark``; lark caches the built
+    tables in the temporary folder (keyed by the grammar's hash) for the next process."""
     return Lark((GRAMMAR_DIR / "mission.lark").read_text(encoding="utf-8"),
                 parser="lalr", lexer="contextual", propagate_positions=True,
-                postlex=StatementBreaks(), import_paths=[GRAMMAR_DIR])
+                postlex=StatementBreaks(), import_paths=[GRAMMAR_DIR], cache=True)
 
 
 @dataclass(frozen=True)

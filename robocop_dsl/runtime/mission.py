@@ -65,8 +65,8 @@ class Mission:
                                           hierarchy=hierarchy, time_step=time_step)
         except RobocopError as error:
             raise DiagnosticError([self.spec.source.error(
-                "run-options", str(error), None, "check --solver, --hierarchy and the "
-                "controller processor's options")]) from None
+                "run-options", str(error), None, "the controller refused this value: check "
+                "the mission's parameters and the run options (--solver, --hierarchy)")]) from None
         if driver is None:
             driver = SimulatedDriver(world, controller.joint_group.name, controller.time_step,
                                      initial)

@@ -54,6 +54,7 @@ class Runner:
         self._done: str | None = None
         self._message = ""
         self._driver_lost = False
+        self._held = False
         self._attached: dict = {}
         self._transitions: list = []
         self._cycle_times: list = []
@@ -210,6 +211,7 @@ class Runner:
                 self.driver.write(command)
             else:
                 self.driver.hold()
+                self._held = True
         except RobocopError as error:
             self._driver_fault(error)
 
@@ -252,10 +254,15 @@ class Runner:
             self._notify_event("overrun", {"message": f"cycle late by {-remaining * 1e3:.2f} ms",
                                            "late": -remaining})
 
+    def _holding(self) -> bool:
+        """Whether the last command the robot got is a hold (or no robot answers)."""
+        return self._driver_lost or self._held
+
     def _hold(self) -> None:
         if not self._driver_lost:
             try:
                 self.driver.hold()
+                self._held = True
             except RobocopError as error:
                 self._driver_fault(error)
 
@@ -265,7 +272,8 @@ class Runner:
                            np.array(self._compute_times), self._qp_failures, self._overruns,
                            self._message)
         self._notify_event("end", {"outcome": result.outcome, "state": result.final_state,
-                                   "message": result.message})
+                                   "message": result.message,
+                                   "holding": self._holding()})
         for observer in self.observers:
             observer.on_stop(result)
         return result

@@ -16,28 +16,34 @@ import numpy as np
 CAMERA = "/Cameras/default/rotated/<object>"
 SHIFTED = ("/meshcat", "/Grid", "/Axes")
 FIELD_OF_VIEW = math.radians(75)        # meshcat's default vertical field of view
-VIEW_DIRECTION = np.array([1.0, -0.75, 0.55])   # from the scene towards the camera
-MARGIN = 0.9
+ASPECT = 4 / 3                          # narrowest page shape framed (width / height)
+VIEW_DIRECTION = np.array([1.0, 0.7, 0.5])      # from the scene towards the camera
+MARGIN = 1.1                            # view size / scene size, on the tighter side
 
 
-def camera_view(lower: np.ndarray, upper: np.ndarray) -> tuple:
-    """Centre and camera position [m, world frame] that frame a box.
+def camera_view(points: np.ndarray) -> tuple:
+    """Centre and camera position [m, world frame] that frame a set of points.
 
     Args:
-        lower: Lower corner of the box to frame [m].
-        upper: Upper corner [m].
+        points: ``N x 3`` points to keep in view [m], e.g. the corners of the bodies.
 
     Returns:
-        ``(centre, position)``: the camera looks at ``centre`` from ``position``, in
-        front of the robot (+x), to its right and above, far enough for the box's
-        bounding sphere to fit the vertical field of view.
+        ``(centre, position)``: the camera looks at the centre of the points' box from
+        in front of the robot (+x), to its left and above, just far enough for every
+        point to fit in a page of shape ``ASPECT`` with a ``MARGIN``.
     """
-    lower, upper = np.asarray(lower, float), np.asarray(upper, float)
-    centre = (lower + upper) / 2
-    radius = np.linalg.norm(upper - lower) / 2
-    distance = MARGIN * radius / math.sin(FIELD_OF_VIEW / 2)
-    direction = VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
-    return centre, centre + distance * direction
+    points = np.asarray(points, float)
+    centre = (points.min(axis=0) + points.max(axis=0)) / 2
+    back = VIEW_DIRECTION / np.linalg.norm(VIEW_DIRECTION)
+    right = np.cross(-back, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, -back)
+    vertical = math.tan(FIELD_OF_VIEW / 2) / MARGIN
+    horizontal = vertical * ASPECT
+    offsets = points - centre
+    needed = np.maximum(np.abs(offsets @ up) / vertical, np.abs(offsets @ right) / horizontal)
+    distance = float(np.max(offsets @ back + needed))
+    return centre, centre + distance * back
 
 
 def set_camera(visualizer, centre: np.ndarray, position: np.ndarray) -> None:

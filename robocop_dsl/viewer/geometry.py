@@ -88,27 +88,22 @@ class WorldGeometry:
         frame_id = self.model.getFrameId(body, pin.FrameType.BODY)
         return pin.updateFramePlacement(self.model, self._data, frame_id).translation.copy()
 
-    def bounds(self, q: np.ndarray, bodies: list | None = None) -> tuple:
-        """Axis-aligned box around the geometry at ``q`` [m].
+    def corners(self, q: np.ndarray) -> np.ndarray:
+        """Corners of every geometry's bounding box at ``q``, in the world frame.
 
         Args:
             q: The whole world's configuration (size ``model.nq``).
-            bodies: Only the geometry of these bodies (default: all of it).
 
         Returns:
-            ``(lower, upper)`` corners, 3-vectors in the world frame.
+            An ``(8 * geometries) x 3`` array [m].
         """
         poses = self.poses(q)
-        wanted = None if bodies is None else {p for b in bodies for p in self.paths_of(b)}
         corners = []
         for path, geometry in zip(self.paths, self.visual_model.geometryObjects):
-            if wanted is not None and path not in wanted:
-                continue
             shape = geometry.geometry
             shape.computeLocalAABB()
             low, high = np.asarray(shape.aabb_local.min_), np.asarray(shape.aabb_local.max_)
             box = np.array([[x, y, z, 1.0] for x in (low[0], high[0])
                             for y in (low[1], high[1]) for z in (low[2], high[2])])
             corners.append((poses[path] @ box.T).T[:, :3])
-        points = np.vstack(corners)
-        return points.min(axis=0), points.max(axis=0)
+        return np.vstack(corners)

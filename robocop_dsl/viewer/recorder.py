@@ -22,7 +22,8 @@ class ReplayRecorder(Observer):
 
     Frame ``i`` of the replay shows the latest cycle at or before ``t0 + i * period``
     (``t0``: the first cycle's time), so the animation has one frame per viewer period
-    of run time and plays in real time. On a cycle the recorder only keeps a reference
+    of run time and plays in real time; when the run stops between two frame times, one
+    more frame shows its last cycle. On a cycle the recorder only keeps a reference
     to the record at each frame time; the drawing commands are made when the file is
     written. Make the recorder before the run (see
     :class:`~robocop_dsl.viewer.geometry.WorldGeometry`).
@@ -71,6 +72,8 @@ class ReplayRecorder(Observer):
         return [record for record, _ in self._frames]
 
     def on_stop(self, result) -> None:
+        if self._previous is not None and self._frames[-1] is not self._previous:
+            self._frames.append(self._previous)
         try:
             self.write()
         except OSError as error:

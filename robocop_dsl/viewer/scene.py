@@ -9,7 +9,7 @@ import numpy as np
 from . import camera, labels, targets
 from .geometry import WorldGeometry
 
-LABEL_HEIGHT = 0.2      # [m] of the state label above the scene's top
+LABEL_HEIGHT = 0.1      # [m] of the state label above the scene's top
 
 
 @dataclass
@@ -69,10 +69,11 @@ class Scene:
         """
         self.geometry = geometry or WorldGeometry(world)
         self.initial_q = world.initial_configuration()
-        lower, upper = self.geometry.bounds(self.initial_q)
+        corners = self.geometry.corners(self.initial_q)
+        lower, upper = corners.min(axis=0), corners.max(axis=0)
         self.label_position = np.array([(lower[0] + upper[0]) / 2, (lower[1] + upper[1]) / 2,
                                         upper[2] + LABEL_HEIGHT])
-        self.camera = camera.camera_view(lower, np.maximum(upper, self.label_position))
+        self.camera = camera.camera_view(np.vstack([corners, self.label_position]))
         self.tasks: dict = {}       # task name -> kind, for tasks with markers
         self.states: list = []
 

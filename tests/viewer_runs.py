@@ -1,13 +1,18 @@
-"""Synthetic runs on the real BAZAR world, for the viewer tests: BAZAR's arms move
-between two postures, a pose task and a position task get enabled and disabled, the
-part gets attached to the left tool and released, with the control cycle of the world's
-controller."""
+"""Runs for the viewer tests: the real pickup mission, and a synthetic run on the real
+BAZAR world (BAZAR's arms move between two postures, a pose task and a position task
+get enabled and disabled, the part gets attached to the left tool and released, with
+the control cycle of the world's controller)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
+from robocop_dsl.runtime import RunLogger, load_mission
 from robocop_dsl.runtime.records import CycleRecord, TaskView
+
+PICKUP = Path(__file__).resolve().parent.parent / "missions" / "pickup.mission"
 
 TIME_STEP = 0.005               # [s], the world's controller time step
 STATES = (("goto_initial_pose", 0.0), ("approach", 0.5), ("grasp", 1.0), ("lift", 1.5),
@@ -62,3 +67,24 @@ def synthetic_run(world, duration: float = DURATION, step: float = TIME_STEP) ->
                                    positions=q.copy(), command=np.zeros(len(q)),
                                    solved=True, tasks=tuple(tasks), body_poses=body_poses))
     return records
+
+
+def pickup_run(make_observers, log_folder=None) -> tuple:
+    """Run the pickup mission headless, as fast as it goes.
+
+    Args:
+        make_observers: Called with the mission's world before the run; returns the
+            observers to add.
+        log_folder: Where to log the run, if anywhere.
+
+    Returns:
+        The run's result and the observers.
+    """
+    mission = load_mission(PICKUP)
+    runner = mission.runner()
+    observers = make_observers(mission.world)
+    if log_folder is not None:
+        runner.add_observer(RunLogger(log_folder, runner.joint_names))
+    for observer in observers:
+        runner.add_observer(observer)
+    return runner.run(), observers

@@ -1,0 +1,123 @@
+"""``robocop-mission run`` as a user calls it: exit codes, summary, log, Ctrl-C."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from robocop_dsl.runtime import read_events, read_timeseries
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def robocop(*args, **kwargs):
+    return subprocess.run([sys.executable, "-m", "robocop_dsl", *map(str, args)],
+                          capture_output=True, text=True, cwd=REPO, **kwargs)
+
+
+def write(tmp_path, body):
+    path = tmp_path / "m.mission"
+    path.write_text('mission m\nworld "bazar/sophia.yaml"\n' + body)
+    return path
+
+
+def test_pickup_succeeds_with_the_seed_sequence(tmp_path):
+    done = robocop("run", "missions/pickup.mission", "--log", tmp_path / "log")
+    assert done.returncode == 0, done.stderr
+    out = done.stdout
+    assert "outcome: success  final state: done" in out
+    rows = [[cell.strip() for cell in line.split("│")] for line in out.splitlines()
+            if line.count("│") == 3]
+    assert [(row[1], row[2]) for row in rows] == [
+        ("goto_initial_pose", "approach"), ("approach", "grasp"), ("grasp", "lift"),
+        ("lift", "move_to_drop"), ("move_to_drop", "release"), ("release", "return"),
+        ("return", "done")]
+    assert "QP failures: 0" in out
+    transitions = [e for e in read_events(tmp_path / "log") if e["kind"] == "transition"]
+    assert [e["to"] for e in transitions] == ["approach", "grasp", "lift", "move_to_drop",
+                                              "release", "return", "done"]
+    data = read_timeseries(tmp_path / "log")
+    end = [e for e in read_events(tmp_path / "log") if e["kind"] == "end"][0]
+    assert end["outcome"] == "success"
+    assert len(data["time"]) == end["cycle"]
+    assert set(data["state"]) == {"goto_initial_pose", "approach", "grasp", "lift",
+                                  "move_to_drop", "release", "return", "done"}
+    assert "error.left_tool" in data and "reference.left_tool.5" in data
+    assert "q.bazar_left_joint_1" in data and "command.bazar_ptu_joint_tilt" in data
+    grasp = data["state"] == "grasp"
+    assert np.nanmin(data["error.left_tool"][grasp]) < 1e-3
+    assert data["solved"].all()
+
+
+def test_failure_outcome_exits_1(tmp_path):
+    path = write(tmp_path, "state wait { when elapsed > 50 ms -> broken }\nfinal broken: failure\n")
+    done = robocop("run", path)
+    assert done.returncode == 1
+    assert "outcome: failure  final state: broken" in done.stdout
+
+
+def test_invalid_mission_exits_2(tmp_path):
+    path = write(tmp_path, "state wait { when elapsed > 50 ms -> nowhere }\n")
+    done = robocop("run", path)
+    assert done.returncode == 2
+    assert "error[" in done.stderr and "nowhere" in done.stderr
+    assert "Traceback" not in done.stderr
+
+
+def test_unhandled_fault_exits_3_and_keeps_the_log(tmp_path):
+    path = write(tmp_path, """
+constraint above: joint_kinematic(bazar_left_arm) { min_position = [1, 1, 1, 1, 1, 1, 1] rad }
+constraint below: joint_kinematic(bazar_left_arm) { max_position = [-1, -1, -1, -1, -1, -1, -1] rad }
+state hold { when elapsed > 1 s -> done }
+final done
+""")
+    done = robocop("run", path, "--log", tmp_path / "log")
+    assert done.returncode == 3
+    assert "outcome: fault" in done.stdout and "no QP solution" in done.stdout
+    kinds = [e["kind"] for e in read_events(tmp_path / "log")]
+    assert kinds == ["start", "qp_failure", "end"]
+    assert len(read_timeseries(tmp_path / "log")["time"]) == 2
+
+
+def test_duration_caps_mission_time():
+    done = robocop("run", "missions/pickup.mission", "--duration", "1")
+    assert done.returncode == 1
+    assert "outcome: stopped  final state: approach" in done.stdout or \
+        "outcome: stopped  final state: goto_initial_pose" in done.stdout
+    assert "mission time: 1.000 s" in done.stdout
+
+
+def test_solver_override_and_unknown_solver():
+    assert robocop("run", "missions/pickup.mission", "--solver", "daqp",
+                   "--hierarchy", "weighted").returncode == 0
+    done = robocop("run", "missions/pickup.mission", "--solver", "nosuch")
+    assert done.returncode == 2
+    assert "nosuch" in done.stderr and "proxqp" in done.stderr
+
+
+def test_ctrl_c_holds_and_keeps_a_complete_log(tmp_path):
+    log = tmp_path / "log"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "robocop_dsl", "run", "missions/pickup.mission", "--realtime",
+         "--log", str(log)], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True)
+    for _ in range(600):
+        events = log / "events.jsonl"
+        if events.exists() and '"transition"' in events.read_text():
+            break
+        time.sleep(0.05)
+    process.send_signal(signal.SIGINT)
+    out, err = process.communicate(timeout=120)
+    assert process.returncode == 130, err
+    assert "outcome: interrupted" in out
+    events = read_events(log)
+    end = events[-1]
+    assert end["kind"] == "end" and end["outcome"] == "interrupted"
+    assert end["holding"] is True
+    data = read_timeseries(log)
+    assert len(data["time"]) == end["cycle"]
+    np.testing.assert_allclose(np.diff(data["time"]), 0.005)
