@@ -1,13 +1,12 @@
-"""Property: no mission text, however broken, makes parsing or checking raise."""
+"""Property: no mission text, however broken, makes parsing, checking or compiling raise."""
 
 from pathlib import Path
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from robocop_dsl.check import check_mission
+from robocop_dsl.compile import check_source
 from robocop_dsl.diagnostics import Diagnostic
-from robocop_dsl.lang import parse_mission
 
 REPO = Path(__file__).resolve().parent.parent
 SEEDS = [p.read_text() for p in sorted((REPO / "missions").glob("*.mission"))]
@@ -37,10 +36,9 @@ def mutated_missions(draw) -> str:
     return text
 
 
-def _parse_and_check(text: str, world) -> list[Diagnostic]:
-    parsed = parse_mission(text, "fuzz.mission")
-    checked = check_mission(parsed.mission, parsed.source, world)
-    return [*parsed.diagnostics, *checked.diagnostics]
+def _parse_and_check(text: str, world) -> tuple[Diagnostic, ...]:
+    """Parse, check, build and check the state graph, compile when clean."""
+    return check_source(text, "fuzz.mission", world=world).diagnostics
 
 
 @settings(max_examples=1000, deadline=None, suppress_health_check=list(HealthCheck))

@@ -12,7 +12,7 @@ from PIL import Image
 from robocop_dsl.viewer import LiveViewer, ReplayRecorder, Scene, write_replay
 from robocop_dsl.viewer.camera import set_camera
 from robocop_dsl.viewer.commands import CommandLog
-from viewer_runs import synthetic_run
+from viewer_runs import pickup_run
 
 CHROMIUM = shutil.which("chromium")
 pytestmark = pytest.mark.skipif(
@@ -59,24 +59,28 @@ def empty_scene(bazar, tmp_path_factory):
     return screenshot(page.as_uri(), folder / "empty.png", folder)
 
 
-def test_replay_file_draws_the_robot(bazar, empty_scene, tmp_path):
-    """The replay, paused mid-run, shows the robot where the empty scene shows sky."""
-    recorder = ReplayRecorder(bazar, tmp_path / "replay.html")
-    for item in synthetic_run(bazar):
-        recorder.on_cycle(item)
-    recorder.on_stop(None)
-    image = screenshot(recorder.path.as_uri() + "#t=1.2", tmp_path / "replay.png", tmp_path)
+def mid_grasp(result):
+    """A run time [s] halfway through the pickup's grasp state."""
+    starts = {t.target: t.time for t in result.transitions}
+    return (starts["grasp"] + starts["lift"]) / 2
+
+
+def test_replay_file_draws_the_robot(empty_scene, tmp_path):
+    """The pickup's replay, paused mid-grasp, shows the robot where the empty scene
+    shows sky."""
+    result, (recorder,) = pickup_run(
+        lambda world: [ReplayRecorder(world, tmp_path / "pickup.html")])
+    url = f"{recorder.path.as_uri()}#t={mid_grasp(result):.3f}"
+    image = screenshot(url, tmp_path / "replay.png", tmp_path)
     assert changed(image, empty_scene) > 0.05
     assert robot_orange(image).sum() - robot_orange(empty_scene).sum() > 2000
 
 
-def test_live_page_draws_the_robot(bazar, empty_scene, tmp_path):
-    """The live page, once the viewer published, shows the robot too."""
-    with LiveViewer(bazar) as viewer:
-        for item in synthetic_run(bazar):
-            viewer.on_cycle(item)
-        viewer.on_stop(None)
-        assert viewer.sync(SYNC)
+def test_live_page_draws_the_robot(empty_scene, tmp_path):
+    """The live page of a pickup run shows the robot too."""
+    result, (viewer,) = pickup_run(lambda world: [LiveViewer(world)])
+    with viewer:
+        assert result.outcome == "success" and viewer.sync(SYNC)
         image = screenshot(viewer.web_url, tmp_path / "live.png", tmp_path)
     assert changed(image, empty_scene) > 0.05
     assert robot_orange(image).sum() - robot_orange(empty_scene).sum() > 2000

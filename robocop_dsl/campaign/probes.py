@@ -40,6 +40,12 @@ class Budget(Observer):
         self.check()
 
 
+RESOLUTION = 9
+"""Decimals kept of measured errors and margins (1e-9 m or rad): finer digits are below
+the QP tolerance and differ between runs of the same job (ProxQP's results vary in
+their last bits with memory layout), so that equal campaigns give equal tables."""
+
+
 class Probe(Observer):
     """Follows a run for the results table: the smallest joint-limit margin over the run
     and the largest task error in its last cycle."""
@@ -72,6 +78,7 @@ class Probe(Observer):
         ``min_limit_margin`` [rad or m] (NaN before the first cycle, inf without limits)
         and ``limit_joint``, the joint that came closest."""
         errors = [task.error for task in self.tasks]
-        return {"worst_task_error": float(max(errors)) if errors else math.nan,
-                "min_limit_margin": self.margin if self.cycles else math.nan,
-                "limit_joint": self.limit_joint}
+        worst = float(max(errors)) if errors else math.nan
+        margin = self.margin if self.cycles else math.nan
+        return {"worst_task_error": round(worst, RESOLUTION),
+                "min_limit_margin": round(margin, RESOLUTION), "limit_joint": self.limit_joint}

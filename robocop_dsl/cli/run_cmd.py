@@ -40,7 +40,8 @@ def run(args) -> int:
         print(render_all(error.diagnostics), file=sys.stderr)
         return 2
     try:
-        runner = mission.runner(solver=args.solver, hierarchy=args.hierarchy)
+        runner = mission.runner(solver=args.solver, hierarchy=args.hierarchy,
+                                realtime=args.realtime)
     except DiagnosticError as error:
         print(render_all(error.diagnostics), file=sys.stderr)
         return 2
@@ -48,7 +49,8 @@ def run(args) -> int:
         runner.add_observer(RunLogger(args.log, runner.joint_names))
     display = ProgressDisplay(mission.name)
     runner.add_observer(display)
-    result = runner.run(duration=args.duration, realtime=args.realtime)
+    result = runner.run(duration=args.duration,
+                        realtime=args.realtime or runner.driver.realtime)
     display.close()
     print_summary(result, sys.stdout)
     if args.log:

@@ -17,6 +17,9 @@ class SimulatedDriver:
         initial: Initial configuration (nq); defaults to the world's ``initial:``.
     """
 
+    realtime = False
+    """Time advances one ``time_step`` per ``read()``: a loop may run faster than real time."""
+
     def __init__(self, world, joint_group: str, time_step: float,
                  initial: np.ndarray | None = None):
         self.model = world.model
@@ -29,6 +32,12 @@ class SimulatedDriver:
 
     def __repr__(self) -> str:
         return f"SimulatedDriver({self.group.name}, {self.group.dofs} dofs, dt={self.time_step}s)"
+
+    def connect(self) -> None:
+        """Nothing to reach: the robot is this object."""
+
+    def disconnect(self) -> None:
+        """Nothing to release."""
 
     def read(self) -> tuple:
         """Integrate the last command over one step; return ``(q, v)`` (copies)."""

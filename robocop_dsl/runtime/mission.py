@@ -13,7 +13,7 @@ from ..compile.load import check_file
 from ..control import Kinematics
 from ..diagnostics import DiagnosticError, RobocopError
 from .build import build_controller, build_program
-from .driver import SimulatedDriver
+from ..drivers import create_driver
 from .runner import Runner
 
 
@@ -42,7 +42,8 @@ class Mission:
 
     def runner(self, solver: str | None = None, hierarchy: str | None = None,
                time_step: float | None = None, initial: np.ndarray | None = None,
-               body_placements: dict | None = None, driver=None) -> Runner:
+               body_placements: dict | None = None, driver=None,
+               realtime: bool = False) -> Runner:
         """A runner on a private copy of the world's model.
 
         Args:
@@ -51,7 +52,10 @@ class Mission:
             time_step: Control period [s]; ``None`` keeps the processor's.
             initial: Start configuration (``model.nq``); default the world's ``initial:``.
             body_placements: ``{body: 4x4 world pose}`` for bodies fixed to the world.
-            driver: A driver (``read``/``write``/``hold``); default a simulated one.
+            driver: A driver (``connect``/``read``/``write``/``hold``/``disconnect``);
+                default the one the world's ``processors:`` describe.
+            realtime: Whether the run will keep to the wall clock (a simulated driver
+                then runs in its own thread; otherwise it integrates in the loop).
 
         Raises:
             DiagnosticError: an option the world or the controller refuses.
@@ -68,8 +72,13 @@ class Mission:
                 "run-options", str(error), None, "the controller refused this value: check "
                 "the mission's parameters and the run options (--solver, --hierarchy)")]) from None
         if driver is None:
-            driver = SimulatedDriver(world, controller.joint_group.name, controller.time_step,
-                                     initial)
+            try:
+                driver = create_driver(world, realtime=realtime,
+                                       time_step=controller.time_step, initial=initial)
+            except RobocopError as error:
+                raise DiagnosticError([self.spec.source.error(
+                    "run-driver", str(error), None,
+                    f"see the driver processor in {world.path.name}")]) from None
         return Runner(build_program(self.spec), controller, driver, self.name)
 
 

@@ -115,12 +115,17 @@ class Runner:
 
     def _start(self) -> None:
         self._started = True
-        q, _ = self.driver.read()
-        self.q = q
-        self.kinematics.update(q)
         for observer in self.observers:
             observer.on_start(self)
         self._notify_event("start", {"state": self._state})
+        try:
+            self.driver.connect()
+            self.q, _ = self.driver.read()
+        except RobocopError as error:
+            self._driver_fault(error)
+            self._finish("fault", f"driver: {error}")
+            return
+        self.kinematics.update(self.q)
         self._enter(self._state)
 
     def _enter(self, name: str) -> None:
@@ -276,4 +281,5 @@ class Runner:
                                    "holding": self._holding()})
         for observer in self.observers:
             observer.on_stop(result)
+        self.driver.disconnect()
         return result
