@@ -62,9 +62,9 @@ def small_campaign(folder, missions, samples=3, extra=""):
           initial_posture:
             - joints: bazar_arms
               normal: {{std: 0.02}}
-        {extra}"""
+        """
     path = folder / "small.campaign.yaml"
-    path.write_text(textwrap.dedent(text), encoding="utf-8")
+    path.write_text(textwrap.dedent(text) + extra, encoding="utf-8")
     return path
 
 
@@ -195,7 +195,7 @@ def test_worlds_and_missions_are_built_once_per_process(tmp_path, monkeypatch):
         """), encoding="utf-8")
     variants = f"variants: {{sophia: bazar/sophia.yaml, no_camera: {variant}}}"
     campaign = load_campaign(small_campaign(tmp_path, [str(MISSIONS / "pickup.mission")],
-                                            extra=variants + "\nduration: 0.5 s"))
+                                            extra=f"{variants}\nduration: 0.5 s\n"))
     loads = []
     real_load = campaign_worker.load_world
     monkeypatch.setattr(campaign_worker, "load_world", lambda p: loads.append(p) or real_load(p))

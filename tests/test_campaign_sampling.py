@@ -22,7 +22,7 @@ CAMPAIGN = """
           normal: {std: [0.01, 0.01, 0]}
       initial_posture:
         - joints: bazar_left_arm
-          normal: {std: 0.5}
+          normal: {std: 2.0}
         - joints: bazar_ptu
           uniform: {low: -0.1, high: 0.1}
     """

@@ -101,6 +101,7 @@ def test_timeout_with_elapsed(tmp_path):
 
 def test_emitted_and_injected_events(tmp_path):
     m = mission(tmp_path, """
+        event go "raised by the operator"
         state a {
             enter { emit ready }
             when event ready -> b

@@ -31,9 +31,11 @@ def check_condition(ctx: CheckContext, condition: ast.Condition) -> None:
     elif isinstance(condition, ast.Not):
         check_condition(ctx, condition.operand)
     elif isinstance(condition, ast.EventCondition):
-        if condition.event.text not in ctx.symbols.events:
+        name = condition.event.text
+        if name not in ctx.symbols.events:
             ctx.unknown("unknown-event", "event", condition.event, ctx.symbols.events,
-                        f"no action emits it: add 'emit {condition.event.text}' to a state")
+                        f"no action emits it: add 'emit {name}' to a state, or declare "
+                        f"'event {name}' when it comes from outside the mission")
     elif isinstance(condition, ast.Comparison):
         dimensions = measure_dimensions(ctx, condition.measure)
         if dimensions is not None:

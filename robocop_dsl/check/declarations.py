@@ -13,8 +13,15 @@ _SINGLE = ((ast.MissionHeader, "mission header"), (ast.WorldDecl, "world"),
 
 
 def collect_symbols(ctx: CheckContext, mission: ast.Mission) -> None:
-    """Record tasks, constraints, states and emitted events; report duplicate names."""
+    """Record tasks, constraints, states and events (declared or emitted); report
+    duplicate names."""
     symbols = ctx.symbols
+    declared: dict = {}
+    for event in mission.of_type(ast.EventDecl):
+        if event.name.text in declared:
+            _duplicate(ctx, "event", event.name, declared[event.name.text])
+        declared.setdefault(event.name.text, event.name)
+    symbols.events.update(declared)
     for decl in mission.tasks + mission.constraints:
         first = symbols.tasks.get(decl.name.text) or symbols.constraints.get(decl.name.text)
         if first is not None:

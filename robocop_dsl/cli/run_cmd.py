@@ -9,7 +9,6 @@ from __future__ import annotations
 import sys
 
 from ..diagnostics import DiagnosticError, render_all
-from .progress import ProgressDisplay, print_summary
 
 EXIT_CODES = {"success": 0, "failure": 1, "stopped": 1, "fault": 3, "interrupted": 130}
 
@@ -33,6 +32,7 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     from ..runtime import RunLogger, load_mission
+    from .progress import ProgressDisplay, print_summary
 
     try:
         mission = load_mission(args.file)

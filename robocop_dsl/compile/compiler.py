@@ -34,8 +34,9 @@ def compile_mission(mission: ast.Mission, source: SourceFile, world, world_path:
     converter = _Converter(mission, names)
     guards = tuple(converter.transition(g, guard=True) for g in mission.guards)
     states = {s.name.text: converter.state(s, guards) for s in mission.states}
-    events = frozenset(a.event.text for s in mission.states for b in s.blocks
-                       for a in b.actions if isinstance(a, ast.Emit))
+    events = frozenset([a.event.text for s in mission.states for b in s.blocks
+                        for a in b.actions if isinstance(a, ast.Emit)]
+                       + [e.name.text for e in mission.of_type(ast.EventDecl)])
     return spec.MissionSpec(
         name=header.name.text, description=header.description, world_path=world_path,
         controller=controller, constraints=constraints, tasks=tasks, states=states,

@@ -256,6 +256,15 @@ class ConstraintDecl(Node):
 
 
 @dataclass(frozen=True)
+class EventDecl(Node):
+    """``event NAME "description"``: an event raised from outside the mission (an
+    operator, ``runner.emit(NAME)`` from Python)."""
+
+    name: Name
+    description: str | None = None
+
+
+@dataclass(frozen=True)
 class StartDecl(Node):
     state: Name
 
@@ -301,8 +310,8 @@ class StateDecl(Node):
         return next((b for b in self.blocks if b.kind == kind), None)
 
 
-Item = Union[MissionHeader, WorldDecl, ControllerDecl, TaskDecl, ConstraintDecl, StartDecl,
-             StateDecl, Transition]
+Item = Union[MissionHeader, WorldDecl, ControllerDecl, TaskDecl, ConstraintDecl, EventDecl,
+             StartDecl, StateDecl, Transition]
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ import math
 from . import ast
 
 INDENT = "    "
-_ONE_LINERS = (ast.WorldDecl, ast.ControllerDecl, ast.StartDecl)
+_ONE_LINERS = (ast.WorldDecl, ast.ControllerDecl, ast.EventDecl, ast.StartDecl)
 
 
 def format_number(value: float) -> str:
@@ -149,6 +149,9 @@ def format_item(item: ast.Item) -> list[str]:
         return _declaration_lines("task", item)
     if isinstance(item, ast.ConstraintDecl):
         return _declaration_lines("constraint", item)
+    if isinstance(item, ast.EventDecl):
+        described = f" {format_string(item.description)}" if item.description is not None else ""
+        return [f"event {item.name.text}{described}"]
     if isinstance(item, ast.StartDecl):
         return [f"start {item.state.text}"]
     if isinstance(item, ast.StateDecl):

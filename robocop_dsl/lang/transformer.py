@@ -115,6 +115,11 @@ class MissionBuilder(Transformer):
     def constraint_decl(self, meta, children):
         return self._declaration(ast.ConstraintDecl, meta, children)
 
+    def event_decl(self, meta, children):
+        strings = _tokens(children, "STRING")
+        return ast.EventDecl(_name(children[0]), _string(strings[0]) if strings else None,
+                             span=self._span(meta))
+
     def start_decl(self, meta, children):
         return ast.StartDecl(_name(children[0]), span=self._span(meta))
 

@@ -1,0 +1,86 @@
+"""Control-loop cycle times with and without the viewer.
+
+Runs the pickup mission headless, with the live Meshcat viewer (its own server on
+127.0.0.1, publishing every 40 ms from its thread) and with the replay recorder, several
+times each in turn, and prints the median and 99th percentile of the runner's cycle
+times (``RunResult.cycle_times``: read, state machine, QP, write) pooled over the runs,
+with their ratio to the headless run. As fast as the machine goes by default; the live
+viewer is meant for ``--realtime`` runs, where the loop sleeps between cycles.
+
+Usage: ``python bench/viewer_overhead.py [--realtime] [--repeats N] [--mission FILE]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from robocop_dsl.runtime import load_mission
+from robocop_dsl.viewer import LiveViewer, ReplayRecorder, viewer_options
+
+MISSION = Path(__file__).resolve().parent.parent / "missions" / "pickup.mission"
+
+
+def headless(world, folder):
+    return []
+
+
+def live(world, folder):
+    return [LiveViewer(world, options=viewer_options(world))]
+
+
+def recorded(world, folder):
+    return [ReplayRecorder(world, Path(folder) / "replay.html", viewer_options(world))]
+
+
+MODES = {"headless": headless, "viewer": live, "record": recorded}
+
+
+def run_once(mission_path: Path, make_observers, realtime: bool) -> np.ndarray:
+    """Cycle times [s] of one run with the observers ``make_observers`` gives."""
+    mission = load_mission(mission_path)
+    runner = mission.runner()
+    with tempfile.TemporaryDirectory() as folder:
+        observers = make_observers(mission.world, folder)
+        for observer in observers:
+            runner.add_observer(observer)
+        result = runner.run(realtime=realtime)
+        for observer in observers:
+            if isinstance(observer, LiveViewer):
+                observer.close()
+                if observer.problems:
+                    raise SystemExit(f"viewer failed: {observer.problems[0]}")
+    if result.outcome != "success":
+        raise SystemExit(f"run ended with {result.outcome}: {result.message}")
+    return result.cycle_times
+
+
+def main(argv: list | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--realtime", action="store_true", help="sleep to the control period")
+    parser.add_argument("--repeats", type=int, default=3, help="runs per mode (default 3)")
+    parser.add_argument("--mission", type=Path, default=MISSION)
+    args = parser.parse_args(argv)
+    times = {mode: [] for mode in MODES}
+    for _ in range(args.repeats):
+        for mode, make_observers in MODES.items():
+            times[mode].append(run_once(args.mission, make_observers, args.realtime))
+    pooled = {mode: np.concatenate(runs) * 1e3 for mode, runs in times.items()}
+    base_median = np.median(pooled["headless"])
+    base_p99 = np.percentile(pooled["headless"], 99)
+    print(f"{args.mission.name}, {'real time' if args.realtime else 'as fast as possible'}, "
+          f"{args.repeats} runs per mode")
+    print(f"{'mode':<10}{'cycles':>8}{'median ms':>11}{'p99 ms':>9}{'median/headless':>17}"
+          f"{'p99/headless':>14}")
+    for mode, values in pooled.items():
+        median, p99 = np.median(values), np.percentile(values, 99)
+        print(f"{mode:<10}{len(values):>8}{median:>11.3f}{p99:>9.3f}"
+              f"{median / base_median:>17.2f}{p99 / base_p99:>14.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
