@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..diagnostics import DiagnosticError, did_you_mean
+from ..diagnostics import DiagnosticError, did_you_mean, sort_key
 from ..world import load_world
 from .spec import CampaignSpec, MissionEntry, VariantEntry
 
@@ -48,7 +48,7 @@ def check_campaign(spec: CampaignSpec, load_mission=None) -> tuple:
     pairings = checker.pairings()
     checker.names()
     if checker.diagnostics:
-        raise DiagnosticError(_unique(checker.diagnostics))
+        raise DiagnosticError(sorted(_unique(checker.diagnostics), key=sort_key))
     return tuple(pairings)
 
 

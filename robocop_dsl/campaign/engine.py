@@ -90,7 +90,7 @@ def open_engine(workers: int | None = None, scheduler: str | None = None,
         return
     count = workers or os.cpu_count() or 1
     with LocalCluster(n_workers=count, threads_per_worker=1, processes=True,
-                      dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
+                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
             Client(cluster) as client:
         yield DaskEngine(client, f"local Dask cluster of {count} worker processes")
 

@@ -56,14 +56,27 @@ def print_summary(table, campaign, console: Console, campaign_path=None) -> None
     if not failing:
         console.print(f"[green]all {len(rows)} jobs succeeded[/]")
         return
-    console.print(_failures(failing[:SHOWN], varied))
-    if len(failing) > SHOWN:
-        console.print(f"... and {len(failing) - SHOWN} more in the results table")
-    console.print("rerun one alone:")
+    console.print(f"\n[bold]{len(failing)} jobs did not succeed[/]")
     path = campaign_path or campaign.path
     for row in failing[:SHOWN]:
-        console.print("  " + rerun_command(campaign.jobs[row["job"]], path),
-                      highlight=False, markup=False, soft_wrap=True)
+        _failure(console, row, varied, rerun_command(campaign.jobs[row["job"]], path))
+    if len(failing) > SHOWN:
+        console.print(f"... and {len(failing) - SHOWN} more in the results table")
+
+
+def _failure(console: Console, row: dict, varied: list, command: str) -> None:
+    colour = OUTCOME_COLOURS.get(row["outcome"], "white")
+    settings = "".join(f", {name} {row[name]}" for name in varied)
+    where = (f" in state {row['final_state']} at {row['mission_time']:.3f} s"
+             if row.get("final_state") else "")
+    console.print(f"job {row['job']}: {row['mission']} on {row['variant']}{settings}, sample "
+                  f"{row['sample']}: [{colour}]{row['outcome']}[/]{where}", soft_wrap=True)
+    console.print(f"  conditions: {_conditions(row)}", soft_wrap=True)
+    console.print(f"  closest limit: {_limit(row)}; worst task error at the end: "
+                  f"{_number(row.get('worst_task_error'), '.6f')}", soft_wrap=True)
+    if row.get("message"):
+        console.print(f"  reason: {row['message']}", markup=False, soft_wrap=True)
+    console.print(f"  rerun: {command}", markup=False, soft_wrap=True)
 
 
 def _rates(rows: list, varied: list) -> Table:
@@ -83,21 +96,6 @@ def _rates(rows: list, varied: list) -> Table:
     return table
 
 
-def _failures(rows: list, varied: list) -> Table:
-    table = Table(title="jobs that did not succeed", show_edge=False)
-    for column in ("job", "mission", "variant", *varied, "sample", "outcome", "state",
-                   "time [s]", "conditions", "closest limit", "reason"):
-        table.add_column(column, overflow="fold")
-    for row in rows:
-        colour = OUTCOME_COLOURS.get(row["outcome"], "white")
-        table.add_row(str(row["job"]), row["mission"], row["variant"],
-                      *(str(row[n]) for n in varied), str(row["sample"]),
-                      f"[{colour}]{row['outcome']}[/]", row["final_state"] or "-",
-                      _number(row["mission_time"], ".3f"), _conditions(row),
-                      _limit(row), row["message"] or "")
-    return table
-
-
 def _conditions(row: dict) -> str:
     bodies = list(dict.fromkeys(k[:-2] for k in row if k.endswith((".x", ".y", ".z"))
                                 and not k.startswith("initial.")))
@@ -106,14 +104,14 @@ def _conditions(row: dict) -> str:
     noisy = sum(1 for k in row if k.startswith("initial.") and row[k] is not None)
     if noisy:
         text.append(f"start posture drawn for {noisy} joints")
-    return "\n".join(text) or "-"
+    return "; ".join(text) or "-"
 
 
 def _limit(row: dict) -> str:
     margin = row["min_limit_margin"]
     if margin is None or margin != margin:
         return "-"
-    return f"{row['limit_joint']} {margin:.4f}"
+    return f"{row['limit_joint']} at {margin:.4f} rad or m"
 
 
 def _number(value, spec: str) -> str:

@@ -21,7 +21,9 @@ class TransitionRecord:
 class RunResult:
     """``outcome``: ``success`` or ``failure`` (the final state's), ``stopped`` (the
     duration cap came first), ``fault`` (a run-time fault with no handler) or
-    ``interrupted`` (Ctrl-C). Times in seconds."""
+    ``interrupted`` (Ctrl-C). Times in seconds: ``cycle_times`` are whole cycles,
+    observers included; ``compute_times`` the controller's work in them (forward
+    kinematics and QP)."""
 
     outcome: str
     final_state: str

@@ -9,76 +9,96 @@ import numpy as np
 ROOT = "world"
 
 
+def body_path(body: str) -> str:
+    """Meshcat path of a body's node; its geometry objects are children of it."""
+    return f"{ROOT}/visuals/{body}"
+
+
 class WorldGeometry:
     """Every visual geometry of a world, loaded through pinocchio's Meshcat visualiser.
 
     The robot's links and the environment bodies (fixed frames of the world model)
-    are all geometry objects of ``world.visual_model``; each is drawn at the Meshcat
-    path ``world/visuals/GEOMETRY``. Environment bodies moved by ``attach`` are drawn
-    at the pose the run reports for them instead of their fixed placement.
+    are all geometry objects of ``world.visual_model``. Each geometry object is drawn
+    at ``world/visuals/BODY/GEOMETRY``, placed once in its body's node; a cycle then
+    moves the body nodes only. Environment bodies moved by ``attach`` are drawn at the
+    pose the run reports for them instead of their fixed placement.
+
+    The kinematic model is copied when the object is made: a run re-parents the
+    frames of the model it runs on, so make the viewer before the run.
+
+    Attributes:
+        model: The copy of the world's kinematic model.
+        visual_model: The world's visual geometry.
     """
 
     def __init__(self, world):
         import pinocchio as pin
 
-        self.model = world.model
+        self.model = world.model.copy()
         self.visual_model = world.visual_model
         self._data = self.model.createData()
-        self._geometry_data = pin.GeometryData(self.visual_model)
-        objects = self.visual_model.geometryObjects
-        self.paths = tuple(f"{ROOT}/visuals/{g.name}" for g in objects)
-        self._scales = tuple(np.diag(np.append(np.asarray(g.meshScale, float), 1.0))
-                             for g in objects)
-        self._body_offsets: dict = {}
-        for index, geometry in enumerate(objects):
+        self._geometry: dict = {}
+        for geometry in self.visual_model.geometryObjects:
             frame = self.model.frames[geometry.parentFrame]
             offset = (frame.placement.inverse() * geometry.placement).homogeneous
-            self._body_offsets.setdefault(frame.name, []).append((index, offset))
+            scale = np.diag(np.append(np.asarray(geometry.meshScale, float), 1.0))
+            self._geometry.setdefault(frame.name, {})[
+                f"{body_path(frame.name)}/{geometry.name}"] = (offset, scale)
+        self._frame_ids = {body: self.model.getFrameId(body, pin.FrameType.BODY)
+                           for body in self._geometry}
 
     def body_names(self) -> list:
         """Names of the bodies that carry at least one visual geometry."""
-        return list(self._body_offsets)
+        return list(self._geometry)
 
     def paths_of(self, body: str) -> list:
-        """Meshcat paths of the geometry attached to ``body``."""
-        return [self.paths[index] for index, _ in self._body_offsets.get(body, [])]
+        """Meshcat paths of the geometry objects of ``body``."""
+        return list(self._geometry.get(body, {}))
+
+    def offsets(self) -> dict:
+        """Geometry path -> 4x4 placement in its body's node [m], mesh scale included."""
+        return {path: offset @ scale for shapes in self._geometry.values()
+                for path, (offset, scale) in shapes.items()}
 
     def load(self, visualizer) -> None:
-        """Send every geometry object (shape and material) to ``visualizer``.
+        """Send every geometry object (shape, material and place in its body's node).
 
         Args:
             visualizer: A ``meshcat.Visualizer`` on a server connection or a command log.
         """
         from pinocchio.visualize import MeshcatVisualizer
 
-        pinocchio_viewer = MeshcatVisualizer(self.model, None, self.visual_model)
+        class BodyNodes(MeshcatVisualizer):
+            def getViewerNodeName(self, geometry_object, geometry_type):
+                body = self.model.frames[geometry_object.parentFrame].name
+                return f"{body_path(body)}/{geometry_object.name}"
+
+        pinocchio_viewer = BodyNodes(self.model, None, self.visual_model)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
             pinocchio_viewer.initViewer(viewer=visualizer)
             pinocchio_viewer.loadViewerModel(rootNodeName=ROOT)
+        for path, offset in self.offsets().items():
+            visualizer[path].set_transform(offset)
 
     def poses(self, q: np.ndarray, body_poses: dict | None = None) -> dict:
-        """World pose of each geometry at configuration ``q``.
+        """World pose of each body node at configuration ``q``.
 
         Args:
             q: The whole world's configuration (size ``model.nq``) [rad or m].
-            body_poses: Body name -> 4x4 world pose of environment bodies moved by
-                ``attach``; their geometry follows these poses.
+            body_poses: Body name -> 4x4 world pose of environment bodies moved by the
+                run; these bodies are drawn there.
 
         Returns:
-            Meshcat path -> 4x4 homogeneous matrix [m], mesh scale included.
+            Body node path -> 4x4 homogeneous matrix [m].
         """
         import pinocchio as pin
 
-        pin.forwardKinematics(self.model, self._data, np.asarray(q, dtype=float))
-        pin.updateGeometryPlacements(self.model, self._data, self.visual_model,
-                                     self._geometry_data)
-        placements = [p.homogeneous for p in self._geometry_data.oMg]
-        for body, pose in (body_poses or {}).items():
-            for index, offset in self._body_offsets.get(body, []):
-                placements[index] = np.asarray(pose, dtype=float) @ offset
-        return {path: placement @ scale
-                for path, placement, scale in zip(self.paths, placements, self._scales)}
+        pin.framesForwardKinematics(self.model, self._data, np.asarray(q, dtype=float))
+        moved = body_poses or {}
+        return {body_path(body): (np.asarray(moved[body], dtype=float) if body in moved
+                                  else self._data.oMf[frame_id].homogeneous)
+                for body, frame_id in self._frame_ids.items()}
 
     def body_position(self, body: str) -> np.ndarray:
         """Position [m] of ``body`` in the world at the configuration of the last
@@ -99,11 +119,13 @@ class WorldGeometry:
         """
         poses = self.poses(q)
         corners = []
-        for path, geometry in zip(self.paths, self.visual_model.geometryObjects):
-            shape = geometry.geometry
+        for geometry in self.visual_model.geometryObjects:
+            body = self.model.frames[geometry.parentFrame].name
+            offset, _ = self._geometry[body][f"{body_path(body)}/{geometry.name}"]
+            shape = geometry.geometry      # coal shapes carry the mesh scale already
             shape.computeLocalAABB()
             low, high = np.asarray(shape.aabb_local.min_), np.asarray(shape.aabb_local.max_)
             box = np.array([[x, y, z, 1.0] for x in (low[0], high[0])
                             for y in (low[1], high[1]) for z in (low[2], high[2])])
-            corners.append((poses[path] @ box.T).T[:, :3])
+            corners.append((poses[body_path(body)] @ offset @ box.T).T[:, :3])
         return np.vstack(corners)
