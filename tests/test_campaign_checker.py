@@ -55,13 +55,13 @@ def test_names_are_checked_against_the_world(tmp_path):
     found = [(d.code, d.span.line, d.span.column, d.message, d.hint) for d in diagnostics(path)]
     assert found == [
         ("unknown-solver", 2, 20, "unknown QP solver 'proxpq'", "did you mean 'proxqp'?"),
-        ("unknown-body", 5, 16, "unknown body 'pickup_piont'", "did you mean 'pickup_point'?"),
-        ("unknown-body", 5, 30, "body 'bazar_left_hankamp_tool_object_side' is not fixed to "
-         "the world (it hangs from 'bazar_left_hankamp_tool_tool_side')",
+        ("unknown-body", 5, 14, "unknown body 'pickup_piont'", "did you mean 'pickup_point'?"),
+        ("body-not-fixed", 5, 28, "body 'bazar_left_hankamp_tool_object_side' is not fixed to "
+         "the world (it hangs from 'bazar_left_hankamp_tool_robot_side')",
          "only environment bodies and points attached to 'world' can be moved"),
-        ("unknown-joints", 8, 17, "unknown joint group or joint 'bazar_armz'",
+        ("unknown-joints", 8, 15, "unknown joint group or joint 'bazar_armz'",
          "did you mean 'bazar_arms'?"),
-        ("wrong-length", 10, 17, "'bazar_ptu' has 2 dofs; give one value or 2", None),
+        ("wrong-length", 10, 15, "'bazar_ptu' has 2 dofs; give one value or 2", None),
     ]
 
 

@@ -39,7 +39,7 @@ def test_world_error_exit_code(tmp_path):
     assert done.returncode == 1
     assert done.stdout == ""
     assert done.stderr.splitlines() == [
-        f"{bad}:3:21: error[E005]: unknown parent body 'wrld'",
+        f"{bad}:3:21: error[unknown-parent]: unknown parent body 'wrld'",
         " 3 |     joint: {parent: wrld}",
         "   |                     ^^^^",
         "   = hint: did you mean 'world'?",

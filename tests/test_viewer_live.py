@@ -66,8 +66,10 @@ def test_server_shows_the_latest_cycle(bazar, records):
         moved.update(item.body_poses)
     assert "part_body" in moved and not last.body_poses
     for path, pose in geometry.poses(last.q, moved).items():
-        assert f"/meshcat/{path}" in objects
         np.testing.assert_allclose(transforms[f"/meshcat/{path}"], pose, atol=1e-9)
+    for path, offset in geometry.offsets().items():
+        assert f"/meshcat/{path}" in objects
+        np.testing.assert_allclose(transforms[f"/meshcat/{path}"], offset, atol=1e-9)
     visible = {c["path"]: c["value"] for c in commands
                if c["type"] == "set_property" and c["property"] == "visible"}
     assert visible[f"/meshcat/states/{last.state}"] is True

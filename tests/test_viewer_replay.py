@@ -6,7 +6,7 @@ import pytest
 
 from robocop_dsl.runtime import read_timeseries
 from robocop_dsl.viewer import ReplayRecorder, ViewerError, read_replay, viewer_options
-from robocop_dsl.viewer.geometry import WorldGeometry
+from robocop_dsl.viewer.geometry import WorldGeometry, body_path
 from viewer_runs import STATES, pickup_run, synthetic_run
 
 PERIOD = 0.04
@@ -111,28 +111,33 @@ def moved_bodies(records, until):
     return moved
 
 
+def drawn_pose(commands, tracks, path, frame):
+    """A node's pose at an animation frame: from its tracks, or its one transform."""
+    key = f"/meshcat/{path}"
+    return animated_pose(tracks[key], frame) if key in tracks else static_pose(commands, key)
+
+
 def test_robot_poses_match_the_run(bazar, synthetic):
-    """Each frame's link poses are those of the configuration recorded at that time."""
+    """Each frame's body poses are those of the configuration recorded at that time."""
     records, recorder, commands = synthetic
     tracks, _ = tracks_by_path(commands)
     geometry = WorldGeometry(bazar)
     for frame, item in enumerate(recorder.frame_records):
         expected = geometry.poses(item.q, moved_bodies(records, item))
         for path, pose in expected.items():
-            key = f"/meshcat/{path}"
-            drawn = animated_pose(tracks[key], frame) if key in tracks \
-                else static_pose(commands, key)
-            np.testing.assert_allclose(drawn, pose, atol=1e-9, err_msg=path)
-    assert all(f"/meshcat/{p}" in tracks for p in geometry.paths_of("bazar_left_link_7"))
-    assert not any(f"/meshcat/{p}" in tracks for p in geometry.paths_of("workbench"))
+            np.testing.assert_allclose(drawn_pose(commands, tracks, path, frame), pose,
+                                       atol=1e-9, err_msg=path)
+    assert f"/meshcat/{body_path('bazar_left_link_7')}" in tracks
+    assert f"/meshcat/{body_path('workbench')}" not in tracks
+    for path, offset in geometry.offsets().items():
+        np.testing.assert_allclose(static_pose(commands, f"/meshcat/{path}"), offset)
 
 
 def test_attached_part_moves_with_the_tool(bazar, synthetic):
     """After the attach, the part's cube follows the pose reported for it."""
     _, recorder, commands = synthetic
     tracks, _ = tracks_by_path(commands)
-    (path,) = WorldGeometry(bazar).paths_of("part_body")
-    part = tracks[f"/meshcat/{path}"]
+    part = tracks[f"/meshcat/{body_path('part_body')}"]
     lifted = [i for i, item in enumerate(recorder.frame_records) if item.state == "lift"]
     assert len(lifted) > 5
     for frame in lifted:
@@ -145,8 +150,7 @@ def test_detached_part_stays_where_it_was_left(bazar, synthetic):
     """Once no longer attached, the part keeps the last pose reported for it."""
     records, recorder, commands = synthetic
     tracks, _ = tracks_by_path(commands)
-    (path,) = WorldGeometry(bazar).paths_of("part_body")
-    part = tracks[f"/meshcat/{path}"]
+    part = tracks[f"/meshcat/{body_path('part_body')}"]
     released = [i for i, item in enumerate(recorder.frame_records) if item.state == "release"]
     last_attached = [item for item in records if item.body_poses][-1].body_poses["part_body"]
     assert len(released) > 3
@@ -276,17 +280,14 @@ def test_pickup_replay_robot_poses_match_the_log(bazar, pickup):
     """At every frame each robot link is where the logged joint positions put it."""
     _, recorder, commands, log = pickup
     tracks, _ = tracks_by_path(commands)
-    geometry = WorldGeometry(bazar)
-    robot = [p for body in geometry.body_names() if body.startswith("bazar_")
-             for p in geometry.paths_of(body)]
+    robot = [b for b in WorldGeometry(bazar).body_names() if b.startswith("bazar_")]
     rows = frame_rows(log, len(recorder.frame_records))
     for frame, row in enumerate(rows):
-        expected = geometry.poses(logged_configuration(bazar, log, row))
-        for path in robot:
-            key = f"/meshcat/{path}"
-            drawn = animated_pose(tracks[key], frame) if key in tracks \
-                else static_pose(commands, key)
-            np.testing.assert_allclose(drawn, expected[path], atol=1e-9, err_msg=path)
+        q = logged_configuration(bazar, log, row)
+        for body in robot:
+            np.testing.assert_allclose(drawn_pose(commands, tracks, body_path(body), frame),
+                                       bazar.body_pose(body, q).homogeneous, atol=1e-9,
+                                       err_msg=body)
 
 
 def test_pickup_replay_targets_and_labels_follow_the_log(pickup):
@@ -307,8 +308,7 @@ def test_pickup_part_is_carried_and_left_at_the_drop(bazar, pickup):
     """The part leaves the workbench with the tool and stays where it was released."""
     _, recorder, commands, _ = pickup
     tracks, _ = tracks_by_path(commands)
-    (path,) = WorldGeometry(bazar).paths_of("part_body")
-    part = tracks[f"/meshcat/{path}"]
+    part = tracks[f"/meshcat/{body_path('part_body')}"]
     first, last = animated_pose(part, 0), animated_pose(part, len(recorder.frame_records) - 1)
     drop = bazar.body_pose("drop_point", bazar.initial_configuration()).translation
     np.testing.assert_allclose(first[:3, 3], [0.7, 0.2, 0.76], atol=1e-9)

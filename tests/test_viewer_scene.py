@@ -11,7 +11,7 @@ import pytest
 from robocop_dsl.runtime.records import CycleRecord, TaskView
 from robocop_dsl.viewer import Scene, ViewerError, ViewerOptions, viewer_options
 from robocop_dsl.viewer.commands import CommandLog
-from robocop_dsl.viewer.geometry import WorldGeometry
+from robocop_dsl.viewer.geometry import WorldGeometry, body_path
 from robocop_dsl.world import Processor
 
 LEFT_TOOL = "bazar_left_hankamp_tool_object_side"
@@ -61,25 +61,30 @@ def test_bad_period_is_an_error(period):
 
 
 def test_geometry_follows_the_configuration(bazar):
-    """Every geometry is drawn at its body's pose, for a configuration that moves the arms."""
+    """Every body node is at its body's pose, and every geometry object lands where the
+    world model puts it, for a configuration that moves the arms."""
     geometry = WorldGeometry(bazar)
     q = bazar.initial_configuration()
     q[bazar.joint_group("bazar_arms").q_indices] += 0.3
     poses = geometry.poses(q)
-    for path, item in zip(geometry.paths, bazar.visual_model.geometryObjects):
-        np.testing.assert_allclose(poses[path], expected_geometry_pose(bazar, item, q),
-                                   atol=1e-12)
+    offsets = geometry.offsets()
+    assert set(poses) == {body_path(b) for b in geometry.body_names()}
+    for body in geometry.body_names():
+        np.testing.assert_allclose(poses[body_path(body)],
+                                   bazar.body_pose(body, q).homogeneous, atol=1e-12)
+    for item in bazar.visual_model.geometryObjects:
+        body = bazar.model.frames[item.parentFrame].name
+        drawn = poses[body_path(body)] @ offsets[f"{body_path(body)}/{item.name}"]
+        np.testing.assert_allclose(drawn, expected_geometry_pose(bazar, item, q), atol=1e-12)
 
 
-def test_attached_body_geometry_follows_its_reported_pose(bazar):
-    """The part's cube is drawn where the run says the attached part is."""
+def test_attached_body_follows_its_reported_pose(bazar):
+    """The part is drawn where the run says the attached part is."""
     geometry = WorldGeometry(bazar)
-    q = bazar.initial_configuration()
     part = np.eye(4)
     part[:3, 3] = [0.5, 0.1, 1.2]
-    poses = geometry.poses(q, {"part_body": part})
-    (path,) = geometry.paths_of("part_body")
-    np.testing.assert_allclose(poses[path], part, atol=1e-12)
+    poses = geometry.poses(bazar.initial_configuration(), {"part_body": part})
+    np.testing.assert_allclose(poses[body_path("part_body")], part, atol=1e-12)
 
 
 def test_scene_has_robot_and_environment_bodies(bazar):

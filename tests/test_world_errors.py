@@ -28,7 +28,7 @@ def test_unknown_include(tmp_path):
           - include: nowhere/missing.yaml
     """)
     [d] = errors(path)
-    assert (d.code, d.file, d.span.line) == ("E002", str(path), 2)
+    assert (d.code, d.file, d.span.line) == ("world-not-found", str(path), 2)
     assert d.message == "cannot find included world file 'nowhere/missing.yaml'"
     assert "ROBOCOP_PATH" in d.hint
 
@@ -40,7 +40,7 @@ def test_missing_urdf(tmp_path):
           - path: models/arm.urdf
     """)
     [d] = errors(path)
-    assert (d.code, d.span.line, d.message) == ("E003", 3, "cannot find URDF 'models/arm.urdf'")
+    assert (d.code, d.span.line, d.message) == ("urdf-not-found", 3, "cannot find URDF 'models/arm.urdf'")
 
 
 def test_malformed_yaml(tmp_path):
@@ -50,7 +50,7 @@ def test_malformed_yaml(tmp_path):
             namespace: [a
     """)
     [d] = errors(path)
-    assert d.code == "E001" and d.span.line == 4
+    assert d.code == "yaml-syntax" and d.span.line == 4
     assert d.message.startswith("malformed YAML")
 
 
@@ -65,7 +65,7 @@ def test_unknown_parent_with_suggestion(tmp_path):
               parent: pickup_pont
     """)
     [d] = errors(path)
-    assert (d.code, d.span.line, d.span.column) == ("E005", 7, 15)
+    assert (d.code, d.span.line, d.span.column) == ("unknown-parent", 7, 15)
     assert d.message == "unknown parent body 'pickup_pont'"
     assert d.hint == "did you mean 'pickup_point'?"
     assert d.render().splitlines()[1:3] == [
@@ -83,7 +83,7 @@ def test_duplicate_names_after_namespacing(tmp_path):
             namespace: tip
     """)
     [d] = errors(path)
-    assert (d.code, d.span.line) == ("E006", 4)
+    assert (d.code, d.span.line) == ("duplicate-name", 4)
     assert d.message.startswith("body 'tip_point' of point.urdf is already defined")
     assert "namespace" in d.hint
 
@@ -98,7 +98,7 @@ def test_include_cycle(tmp_path):
           - include: b.yaml
     """)
     [d] = errors(path)
-    assert d.code == "E007" and d.file.endswith("b.yaml") and d.span.line == 2
+    assert d.code == "include-cycle" and d.file.endswith("b.yaml") and d.span.line == 2
     assert d.message == "include cycle: a.yaml -> b.yaml -> a.yaml"
 
 
@@ -111,7 +111,7 @@ def test_group_naming_unknown_joint(tmp_path):
           head: [bazar_ptu_joint_pan, bazar_ptu_joint_tlt]
     """)
     [d] = errors(path)
-    assert (d.code, d.span.line, d.span.column) == ("E008", 5, 31)
+    assert (d.code, d.span.line, d.span.column) == ("unknown-joint", 5, 31)
     assert d.message == "joint group 'head' names unknown joint or group 'bazar_ptu_joint_tlt'"
     assert d.hint == "did you mean 'bazar_ptu_joint_tilt'?"
 
@@ -127,7 +127,7 @@ def test_every_error_is_reported(tmp_path):
         joint_groups:
           g: [no_joint]
     """)
-    assert [d.code for d in errors(path)] == ["E002", "E005", "E008"]
+    assert [d.code for d in errors(path)] == ["world-not-found", "unknown-parent", "unknown-joint"]
 
 
 def test_malformed_urdf_names_the_urdf(tmp_path):
@@ -141,7 +141,7 @@ def test_malformed_urdf_names_the_urdf(tmp_path):
           - path: bad.urdf
     """)
     [d] = errors(path)
-    assert d.code == "E004" and d.file.endswith("bad.urdf") and d.span.line == 3
+    assert d.code == "urdf-error" and d.file.endswith("bad.urdf") and d.span.line == 3
 
 
 def test_unknown_key_and_joint_type(tmp_path):
@@ -153,8 +153,8 @@ def test_unknown_key_and_joint_type(tmp_path):
     """)
     found = errors(path)
     assert [(d.code, d.span.line, d.hint) for d in found] == [
-        ("E009", 3, "did you mean 'namespace'?"),
-        ("E009", 4, "did you mean 'revolute'?"),
+        ("invalid-entry", 3, "did you mean 'namespace'?"),
+        ("invalid-entry", 4, "did you mean 'revolute'?"),
     ]
 
 
@@ -162,4 +162,4 @@ def test_missing_world_file():
     with pytest.raises(DiagnosticError) as caught:
         load_world("nowhere/world.yaml")
     [d] = caught.value.diagnostics
-    assert d.code == "E002" and d.message == "cannot find world file 'nowhere/world.yaml'"
+    assert d.code == "world-not-found" and d.message == "cannot find world file 'nowhere/world.yaml'"

@@ -127,7 +127,7 @@ class _Checker:
                 did_you_mean(body, world.body_names())))
         elif world.body(body).parent != ROOT:
             self.diagnostics.append(source.error(
-                "unknown-body", f"body '{body}' is not fixed to the world (it hangs from "
+                "body-not-fixed", f"body '{body}' is not fixed to the world (it hangs from "
                         f"'{world.body(body).parent}')", span,
                 "only environment bodies and points attached to 'world' can be moved"))
 

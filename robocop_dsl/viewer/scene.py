@@ -19,7 +19,7 @@ class Frame:
     Attributes:
         time: Run time of the cycle [s].
         state: The active state's name.
-        poses: Meshcat path -> 4x4 world pose [m] of every geometry and of the
+        poses: Meshcat path -> 4x4 world pose [m] of every body node and of the
             markers of enabled tasks.
         visible: Meshcat path -> visibility of every task marker and state label
             the scene has loaded.

@@ -63,7 +63,7 @@ def assemble(description: WorldDescription) -> Assembly:
         if duplicate:
             kind, name, previous = duplicate
             diagnostics.append(entry.at.error(
-                "E006", f"{kind} '{name}' of {urdf.path.name} is already defined ({previous})",
+                "duplicate-name", f"{kind} '{name}' of {urdf.path.name} is already defined ({previous})",
                 "give this model a 'namespace:' so that its names are prefixed"))
             continue
         for joint in urdf.joints:
@@ -102,19 +102,19 @@ def _attach(robot: ET.Element, entry: ModelEntry, root: str, where: str,
     spec: JointSpec = entry.joint
     if spec.parent not in result.bodies:
         diagnostics.append(spec.parent_at.error(
-            "E005", f"unknown parent body '{spec.parent}'",
+            "unknown-parent", f"unknown parent body '{spec.parent}'",
             did_you_mean(spec.parent, result.bodies) or "bodies are the links of the models"))
         return
     name = spec.name or f"{spec.parent}_to_{root}"
     if name in result.joints:
         diagnostics.append(entry.at.error(
-            "E006", f"joint '{name}' is already defined ({result.joints[name].where})",
+            "duplicate-name", f"joint '{name}' is already defined ({result.joints[name].where})",
             "give the joint another 'name:'"))
         return
     if spec.type in ("revolute", "prismatic") and not {"lower", "upper", "velocity"} <= set(
             spec.limits):
         diagnostics.append(spec.parent_at.error(
-            "E009", f"a {spec.type} joint needs limits: {{lower: .., upper: .., velocity: ..}}"))
+            "invalid-entry", f"a {spec.type} joint needs limits: {{lower: .., upper: .., velocity: ..}}"))
         return
     joint = ET.SubElement(robot, "joint", name=name, type=spec.type)
     ET.SubElement(joint, "parent", link=spec.parent)
@@ -153,7 +153,7 @@ def _resolve_groups(description: WorldDescription, result: Assembly, diagnostics
         for member, at in zip(entry.members, entry.member_spans):
             if member in stack:
                 diagnostics.append(at.error(
-                    "E010", f"joint group '{member}' contains itself: "
+                    "group-cycle", f"joint group '{member}' contains itself: "
                     + " -> ".join(stack[stack.index(member):] + (member,))))
             elif member in description.groups:
                 joints.extend(resolve(member, stack + (member,)))
@@ -161,7 +161,7 @@ def _resolve_groups(description: WorldDescription, result: Assembly, diagnostics
                 joints.append(member)
             else:
                 diagnostics.append(at.error(
-                    "E008", f"joint group '{name}' names unknown joint or group '{member}'",
+                    "unknown-joint", f"joint group '{name}' names unknown joint or group '{member}'",
                     did_you_mean(member, names)))
         resolved[name] = GroupInfo(name, tuple(dict.fromkeys(joints)), tuple(entry.members))
         return resolved[name].joints
@@ -180,13 +180,13 @@ def _resolve_initial(description: WorldDescription, result: Assembly, diagnostic
             joints = (name,)
         else:
             diagnostics.append(at.error(
-                "E008", f"initial posture for unknown joint or group '{name}'",
+                "unknown-joint", f"initial posture for unknown joint or group '{name}'",
                 did_you_mean(name, set(result.groups) | set(result.joints))))
             continue
         dofs = sum(result.joints[j].dofs for j in joints)
         if len(values) != dofs:
             diagnostics.append(at.error(
-                "E009", f"initial posture of '{name}' has {len(values)} values, "
+                "invalid-entry", f"initial posture of '{name}' has {len(values)} values, "
                 f"the group has {dofs} dofs"))
             continue
         offset = 0

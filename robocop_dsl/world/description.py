@@ -122,7 +122,7 @@ class _Reader:
             self.out.diagnostics.extend(error.diagnostics)
             return
         except OSError as error:
-            self.out.diagnostics.append(Diagnostic("E002", f"cannot read world file: {error}",
+            self.out.diagnostics.append(Diagnostic("world-not-found", f"cannot read world file: {error}",
                                                    str(path), None))
             return
         for key in data:
@@ -136,14 +136,14 @@ class _Reader:
 
     def _unknown_key(self, source, mapping: YamlMap, key, allowed) -> None:
         self.out.diagnostics.append(source.error(
-            "E009", f"unknown key '{key}'", mapping.span(key),
+            "invalid-entry", f"unknown key '{key}'", mapping.span(key),
             did_you_mean(str(key), allowed) or "expected one of: " + ", ".join(sorted(allowed))))
 
     def _expect(self, source, value, kind, parent: YamlMap, key) -> bool:
         if isinstance(value, kind):
             return True
         name = "a list" if kind is YamlList else "a mapping"
-        self.out.diagnostics.append(source.error("E009", f"'{key}' must be {name}",
+        self.out.diagnostics.append(source.error("invalid-entry", f"'{key}' must be {name}",
                                                  parent.span(key)))
         return False
 
@@ -156,7 +156,7 @@ class _Reader:
             at = Located(source, models.span(index))
             if not isinstance(entry, YamlMap):
                 self.out.diagnostics.append(at.error(
-                    "E009", "a model must be a mapping with 'include:' or 'path:'"))
+                    "invalid-entry", "a model must be a mapping with 'include:' or 'path:'"))
                 continue
             for key in entry:
                 if key not in _MODEL_KEYS:
@@ -165,7 +165,7 @@ class _Reader:
             inner = prefixed(prefix, str(namespace)) if namespace else prefix
             if ("include" in entry) == ("path" in entry):
                 self.out.diagnostics.append(at.error(
-                    "E009", "a model needs exactly one of 'include:' and 'path:'"))
+                    "invalid-entry", "a model needs exactly one of 'include:' and 'path:'"))
             elif "include" in entry:
                 self._include(source, entry, inner, stack)
             else:
@@ -177,13 +177,13 @@ class _Reader:
         target = paths.resolve(name, Path(source.path).parent)
         if target is None:
             self.out.diagnostics.append(at.error(
-                "E002", f"cannot find included world file '{name}'",
+                "world-not-found", f"cannot find included world file '{name}'",
                 _looked_in(Path(source.path).parent)))
             return
         if target in stack:
             chain = " -> ".join(p.name for p in stack[stack.index(target):] + (target,))
             self.out.diagnostics.append(at.error(
-                "E007", f"include cycle: {chain}", "remove one of the includes in the cycle"))
+                "include-cycle", f"include cycle: {chain}", "remove one of the includes in the cycle"))
             return
         self.read(target, inner, stack, top=False)
 
@@ -193,7 +193,7 @@ class _Reader:
         urdf = paths.resolve(name, Path(source.path).parent)
         if urdf is None:
             self.out.diagnostics.append(at.error(
-                "E003", f"cannot find URDF '{name}'", _looked_in(Path(source.path).parent)))
+                "urdf-not-found", f"cannot find URDF '{name}'", _looked_in(Path(source.path).parent)))
             return
         joint = self._joint(source, entry.get("joint"), entry, outer)
         self.out.models.append(ModelEntry(urdf, inner, joint, at))
@@ -214,7 +214,7 @@ class _Reader:
             spec.type = str(data["type"])
             if spec.type not in JOINT_TYPES:
                 self.out.diagnostics.append(source.error(
-                    "E009", f"unknown joint type '{spec.type}'", data.value_span("type"),
+                    "invalid-entry", f"unknown joint type '{spec.type}'", data.value_span("type"),
                     did_you_mean(spec.type, JOINT_TYPES)
                     or "expected one of: " + ", ".join(JOINT_TYPES)))
                 spec.type = "fixed"
@@ -242,7 +242,7 @@ class _Reader:
         value = mapping[key]
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             return float(value)
-        self.out.diagnostics.append(source.error("E009", f"'{key}' must be a number",
+        self.out.diagnostics.append(source.error("invalid-entry", f"'{key}' must be a number",
                                                  mapping.span(key)))
         return 0.0
 
@@ -252,7 +252,7 @@ class _Reader:
         if not ok or (length is not None and len(value) != length):
             size = f"{length} numbers" if length is not None else "a list of numbers"
             self.out.diagnostics.append(source.error(
-                "E009", f"'{key}' must be {size}", mapping.span(key)))
+                "invalid-entry", f"'{key}' must be {size}", mapping.span(key)))
             return tuple([0.0] * (length or 0))
         return tuple(float(v) for v in value)
 
@@ -264,7 +264,7 @@ class _Reader:
             at = Located(source, groups.span(key))
             if not isinstance(members, YamlList) or not members:
                 self.out.diagnostics.append(at.error(
-                    "E009", f"joint group '{name}' must be a non-empty list of joints or groups"))
+                    "invalid-entry", f"joint group '{name}' must be a non-empty list of joints or groups"))
                 continue
             self.out.groups[name] = GroupEntry(
                 name, [prefixed(prefix, str(m)) for m in members],
@@ -288,13 +288,13 @@ class _Reader:
             at = Located(source, processors.span(name))
             if not isinstance(entry, YamlMap) or "type" not in entry:
                 self.out.diagnostics.append(at.error(
-                    "E009", f"processor '{name}' needs a 'type:'",
+                    "invalid-entry", f"processor '{name}' needs a 'type:'",
                     "for example: {type: qp_controller, options: {...}}"))
                 continue
             options = entry.get("options") or {}
             if not isinstance(options, dict):
                 self.out.diagnostics.append(at.error(
-                    "E009", f"options of processor '{name}' must be a mapping"))
+                    "invalid-entry", f"options of processor '{name}' must be a mapping"))
                 options = {}
             if top or name not in self.out.processors:
                 self.out.processors[name] = ProcessorEntry(

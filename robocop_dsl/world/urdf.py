@@ -110,7 +110,7 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
         robot = ET.fromstring(source.text)
     except ET.ParseError as error:
         line, column = error.position
-        diagnostics.append(source.error("E004", f"malformed URDF: {error.msg}",
+        diagnostics.append(source.error("urdf-error", f"malformed URDF: {error.msg}",
                                         Span.point(line, column + 1)))
         return None
     lines = element_lines(source.text)
@@ -131,7 +131,7 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
             ref = joint.find(tag)
             if ref is None or ref.get("link") not in rename:
                 diagnostics.append(source.error(
-                    "E004", f"joint '{joint.get('name')}' has no valid <{tag}> link",
+                    "urdf-error", f"joint '{joint.get('name')}' has no valid <{tag}> link",
                     Span.point(line)))
                 return None
             ref.set("link", rename[ref.get("link")])
@@ -149,7 +149,7 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
     roots = [name for name in model.links if name not in children]
     if len(roots) != 1:
         diagnostics.append(source.error(
-            "E004", f"a URDF must have exactly one root link, found {len(roots)}"
+            "urdf-error", f"a URDF must have exactly one root link, found {len(roots)}"
             + (f": {', '.join(roots)}" if roots else ""), Span.point(1)))
         return None
     model.root = roots[0]
@@ -167,7 +167,7 @@ def _resolve_meshes(robot: ET.Element, source: SourceFile, lines: dict,
             if found is None:
                 line = _mesh_line(source.text, uri)
                 diagnostics.append(source.error(
-                    "E003", f"cannot find mesh '{uri}' of link '{link.get('name')}'",
+                    "mesh-not-found", f"cannot find mesh '{uri}' of link '{link.get('name')}'",
                     Span.point(line), "package:// URIs resolve along the robots path "
                     "(the URDF's folder, robots/, ROBOCOP_PATH)"))
             else:

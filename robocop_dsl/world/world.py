@@ -190,7 +190,7 @@ def load_world(path: str | Path, relative_to: Path | None = None) -> World:
     if resolved is None:
         folders = ", ".join(str(p) for p in paths.search_folders(relative_to))
         raise DiagnosticError([Diagnostic(
-            "E002", f"cannot find world file '{path}'", str(path), None,
+            "world-not-found", f"cannot find world file '{path}'", str(path), None,
             hint=f"looked in: {folders} (add folders with ROBOCOP_PATH)")])
     description = read_description(resolved)
     assembly = assemble(description)

@@ -94,14 +94,14 @@ def load_yaml(source: SourceFile) -> YamlMap:
         span = Span.point(mark.line + 1, mark.column + 1) if mark else None
         problem = error.problem or error.context or "invalid YAML"
         raise DiagnosticError([source.error(
-            "E001", f"malformed YAML: {problem}", span,
+            "yaml-syntax", f"malformed YAML: {problem}", span,
             "check the indentation and that every ':' is followed by a space")]) from None
     except yaml.YAMLError as error:
-        raise DiagnosticError([source.error("E001", f"malformed YAML: {error}", None)]) from None
+        raise DiagnosticError([source.error("yaml-syntax", f"malformed YAML: {error}", None)]) from None
     if data is None:
         data = YamlMap()
     if not isinstance(data, YamlMap):
         raise DiagnosticError([source.error(
-            "E001", "a world file must be a mapping with a 'models:' list", Span.point(1),
+            "yaml-syntax", "a world file must be a mapping with a 'models:' list", Span.point(1),
             "start the file with 'models:'")])
     return data
