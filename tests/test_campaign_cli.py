@@ -1,7 +1,6 @@
 """``robocop-mission sweep``: exit codes, located errors, the summary and rerunning a job
 alone with the printed command."""
 
-import argparse
 import contextlib
 import io
 import json
@@ -12,20 +11,12 @@ import pytest
 
 from robocop_dsl.campaign import read_results
 from robocop_dsl.campaign.rerun import campaign_job
-from robocop_dsl.cli import sweep_cmd
 from robocop_dsl.diagnostics import DiagnosticError
 
 from conftest import MISSIONS
-from test_campaign_engine import HOLD, small_campaign
+from test_campaign_engine import HOLD, small_campaign, sweep_command
 
 PICKUP = MISSIONS / "pickup.mission"
-
-
-def sweep_command(*argv):
-    parser = argparse.ArgumentParser()
-    sweep_cmd.add_parser(parser.add_subparsers())
-    args = parser.parse_args(["sweep", *map(str, argv)])
-    return args.command(args)
 
 
 @pytest.fixture(scope="module")
