@@ -11,6 +11,7 @@ import pytest
 
 from robocop_dsl.campaign import read_results
 from robocop_dsl.campaign.rerun import campaign_job
+from robocop_dsl.cli.main import main
 from robocop_dsl.diagnostics import DiagnosticError
 
 from conftest import MISSIONS
@@ -59,6 +60,17 @@ def test_rerun_reproduces_the_job(swept):
     result = prepared.runner.run(duration=job.duration)
     assert (result.outcome, result.final_state, result.cycles, result.mission_time) == (
         row["outcome"], row["final_state"], row["cycles"], row["mission_time"])
+
+
+def test_printed_command_reruns_the_job(swept, capsys):
+    """The rerun command the summary prints works as typed (run --campaign --job)."""
+    path, output = swept[:2]
+    row = read_results(output).to_pylist()[1]
+    assert main(["run", str(PICKUP), "--campaign", str(path), "--job", "1"]) == 0
+    out = capsys.readouterr().out
+    assert f"mission time: {row['mission_time']:.3f} s" in out
+    assert main(["run", str(PICKUP), "--job", "1"]) == 2
+    assert "--campaign and --job go together" in capsys.readouterr().err
 
 
 def test_rerun_refuses_another_mission_or_job(swept):

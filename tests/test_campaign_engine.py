@@ -2,7 +2,6 @@
 cluster and on a scheduler and worker started as separate processes; jobs that raise or
 time out are recorded while the others complete; worlds are built once per process."""
 
-import argparse
 import dataclasses
 import functools
 import json
@@ -17,7 +16,7 @@ from robocop_dsl.campaign import comparable, load_campaign, open_engine, read_re
     results_table, run_job, sweep
 from robocop_dsl.campaign import worker as campaign_worker
 from robocop_dsl.campaign.worker import WorkerCache
-from robocop_dsl.cli import sweep_cmd
+from robocop_dsl.cli.main import main
 
 from conftest import MISSIONS
 
@@ -70,10 +69,7 @@ def small_campaign(folder, missions, samples=3, extra=""):
 
 def sweep_command(*argv):
     """``robocop-mission sweep ARGV...``; returns the exit code."""
-    parser = argparse.ArgumentParser()
-    sweep_cmd.add_parser(parser.add_subparsers())
-    args = parser.parse_args(["sweep", *map(str, argv)])
-    return args.command(args)
+    return main(["sweep", *map(str, argv)])
 
 
 def execute_with_fault(job):
@@ -178,10 +174,13 @@ def test_raising_and_overrunning_jobs_are_recorded(tmp_path, where):
 
 def test_worlds_and_missions_are_built_once_per_process(tmp_path, monkeypatch):
     """Two variants, three samples each: each world and mission is loaded once."""
-    variant = tmp_path / "no_camera.yaml"
+    variant = tmp_path / "other_start.yaml"
     variant.write_text(textwrap.dedent("""
         models:
           - include: bazar/workcell.yaml
+          - path: bazar/models/kinect2.urdf
+            namespace: kinect2
+            joint: {parent: bazar_ptu_mount_link}
         initial:
           bazar_arms: [0, 0.25, 0, -2, 0, 0.7, 0, 0, 0.25, 0, -2, 0, 0.7, 0]
         processors:
@@ -193,7 +192,7 @@ def test_worlds_and_missions_are_built_once_per_process(tmp_path, monkeypatch):
             type: simulated
             options: {joint_group: bazar_upper_joints}
         """), encoding="utf-8")
-    variants = f"variants: {{sophia: bazar/sophia.yaml, no_camera: {variant}}}"
+    variants = f"variants: {{sophia: bazar/sophia.yaml, other_start: {variant}}}"
     campaign = load_campaign(small_campaign(tmp_path, [str(MISSIONS / "pickup.mission")],
                                             extra=f"{variants}\nduration: 0.5 s\n"))
     loads = []
@@ -205,5 +204,5 @@ def test_worlds_and_missions_are_built_once_per_process(tmp_path, monkeypatch):
     assert sorted(loads) == sorted({job.world for job in campaign.jobs})
     assert len(cache.missions) == 2
     assert [r["variant"] for r in results_table(rows).to_pylist()] == ["sophia"] * 3 + [
-        "no_camera"] * 3
+        "other_start"] * 3
     assert {r["outcome"] for r in rows} == {"stopped"}

@@ -248,17 +248,25 @@ def frame_rows(log, frames):
 def test_pickup_replay_has_every_body_and_enabled_target(bazar, pickup):
     """The recorded pickup holds the robot, workbench, part, camera, the markers of the
     Cartesian task it enabled, and a label for every state it went through."""
-    _, _, commands, log = pickup
+    _, recorder, commands, log = pickup
     objects = {c["path"] for c in commands if c["type"] == "set_object"}
     geometry = WorldGeometry(bazar)
     for body in geometry.body_names():
         for path in geometry.paths_of(body):
             assert f"/meshcat/{path}" in objects, body
-    enabled = {c[len("error."):] for c in log if c.startswith("error.")}
-    assert enabled == {"arms", "left_tool"}
-    for which in ("target", "reference"):
-        assert f"/meshcat/targets/left_tool/{which}/x" in objects
-    assert not any("/targets/arms" in p for p in objects)
+    kinds = {t.name: t.kind for item in recorder.frame_records for t in item.tasks}
+    assert set(kinds) == {c[len("error."):] for c in log if c.startswith("error.")}
+    assert kinds["left_tool"] == "pose" and kinds["arms"] == "joint"
+    for task, kind in kinds.items():
+        drawn = {p for p in objects if p.startswith(f"/meshcat/targets/{task}/")}
+        if kind in ("pose", "orientation"):
+            assert {f"/meshcat/targets/{task}/{w}/{axis}" for w in ("target", "reference")
+                    for axis in "xyz"} == drawn
+        elif kind in ("position", "gaze"):
+            assert {f"/meshcat/targets/{task}/target",
+                    f"/meshcat/targets/{task}/reference"} == drawn
+        else:
+            assert not drawn
     assert {f"/meshcat/states/{s}" for s in set(log["state"])} <= objects
 
 

@@ -199,3 +199,16 @@ def test_disabled_task_markers_and_inactive_labels_are_hidden(bazar):
               and c["path"].startswith("/meshcat/states/")]
     assert [c["object"]["object"]["type"] for c in labels] == ["Sprite", "Sprite"]
     assert [c["object"]["textures"][0]["text"] for c in labels] == ["approach", "grasp"]
+
+
+def test_gaze_target_is_a_sphere_at_the_watched_point(bazar):
+    """A gaze task shows where its body looks; its reference (two sines) has no place."""
+    q = bazar.initial_configuration()
+    watched = bazar.body_pose("part_body", q).homogeneous
+    task = TaskView("watch", "gaze", "kinect2_rgb_optical_frame", 0.2, watched, np.zeros(2))
+    item = record(bazar, q, tasks=[task])
+    scene, _ = loaded_scene(bazar, item)
+    frame = scene.frame(item)
+    np.testing.assert_allclose(frame.poses["targets/watch/target"][:3, 3], watched[:3, 3])
+    assert frame.visible["targets/watch/target"] is True
+    assert frame.visible["targets/watch/reference"] is False

@@ -7,6 +7,7 @@ import networkx as nx
 from ..diagnostics import SourceFile
 from ..lang import ast
 from .context import CheckContext
+from .controllers import check_assignment
 from .declarations import check_controller, check_declarations, check_header, collect_symbols
 from .graph_checks import check_state_graph
 from .states import check_start, check_states, start_state
@@ -24,6 +25,7 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None) -> Check
     check_header(ctx, mission)
     check_controller(ctx, mission)
     check_declarations(ctx, mission)
+    check_assignment(ctx, mission)
     check_start(ctx, mission)
     check_states(ctx, mission)
     return ctx

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..lang import ast
-from ..lang.catalogue import (JOINT_SPACE, JOINT_VELOCITY_SPACE, ORIENTATION_SPACE,
+from ..lang.catalogue import (GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE, ORIENTATION_SPACE,
                               POSE_SPACE, POSITION, POSITION_SPACE, TWIST_SPACE, VELOCITY)
 from ..lang.units import ANGLE, ANGULAR_VELOCITY, LENGTH, LINEAR_VELOCITY, TIME
 from .context import CheckContext
@@ -122,7 +122,7 @@ def measure_dimensions(ctx: CheckContext, measure: ast.Measure) -> tuple[str, ..
         return None
     if field == "position_error":
         return (LENGTH,)
-    if field == "orientation_error":
+    if field == "orientation_error" or subject.space == GAZE_SPACE:
         return (ANGLE,)
     if subject.space == TWIST_SPACE:
         return (LINEAR_VELOCITY, ANGULAR_VELOCITY)

@@ -81,6 +81,44 @@ class WorldNames:
     def controller_names(self) -> list[str]:
         return list(self.world.controller_names()) if self.world else []
 
+    def controller_group(self, name: str) -> str | None:
+        """The joint group a ``qp_controller`` processor drives."""
+        return self.world.processors[name].options.get("joint_group")
+
+    def controller_time_step(self, name: str) -> float:
+        """A controller's period [s] (``inf`` when it gives none)."""
+        step = self.world.processors[name].options.get("time_step")
+        return float(step) if isinstance(step, (int, float)) else math.inf
+
+    def controller_joints(self, name: str) -> set:
+        """The moving joints a controller drives (empty when its group is unknown)."""
+        group = self.controller_group(name)
+        return self.group_joints(group) if isinstance(group, str) else set()
+
+    def group_joints(self, name: str) -> set:
+        """The moving joints of a joint group or joint (empty when unknown)."""
+        if self.world is None:
+            return set()
+        if self.world.has_group(name) or name in self.world.joint_names():
+            return set(self.world.joint_group(name).joints)
+        return set()
+
+    def body_joints(self, body: str) -> set:
+        """The moving joints between the world and ``body`` (a mimic joint counts as the
+        joint it follows)."""
+        if self.world is None or not self.world.has_body(body):
+            return set()
+        joints = set()
+        info = self.world.body(body)
+        while info.parent is not None:
+            joint = self.world.joint(info.joint)
+            if joint.dofs:
+                joints.add(joint.name)
+            elif joint.mimic:
+                joints.add(joint.mimic)
+            info = self.world.body(info.parent)
+        return joints
+
 
 def _floats(values) -> tuple[float, ...]:
     return tuple(float(v) for v in values)

@@ -6,6 +6,7 @@ from ..diagnostics import Span
 from ..lang import ast
 from ..lang.catalogue import CONSTRAINTS, JOINT_GROUP, TASKS, Registry
 from .context import CheckContext
+from .controllers import cascade_controllers
 from .parameters import Subject, check_body, check_parameters
 
 _SINGLE = ((ast.MissionHeader, "mission header"), (ast.WorldDecl, "world"),
@@ -71,7 +72,8 @@ def _first_line(mission: ast.Mission) -> Span:
 
 
 def check_controller(ctx: CheckContext, mission: ast.Mission) -> None:
-    """The named controller is a qp_controller of the world, or the world has one."""
+    """The named controller is a qp_controller of the world, or the world has one, or
+    its controllers can run cascaded (see :mod:`.controllers`)."""
     if not ctx.world.known:
         return
     names = ctx.world.controller_names()
@@ -90,9 +92,10 @@ def check_controller(ctx: CheckContext, mission: ast.Mission) -> None:
     if not names:
         ctx.error("missing-controller", "the world has no qp_controller processor", span,
                   "add one under processors: in the world file")
-    elif len(names) > 1:
+    elif len(names) > 1 and not cascade_controllers(ctx.world):
         ctx.error("missing-controller", "the world has several controllers: "
-                  + ", ".join(names), span, "choose one with: controller NAME")
+                  + ", ".join(names), span, "choose one with: controller NAME (controllers "
+                  "on disjoint joint groups run cascaded when the mission names none)")
 
 
 def check_declarations(ctx: CheckContext, mission: ast.Mission) -> None:

@@ -4,14 +4,16 @@ Targets by space: joint tasks take a vector of one value per joint (or ``current
 ``body_position`` a 3-vector [m], a body, ``BODY offset [x, y, z]`` or ``pose(position)``;
 ``body_orientation`` roll-pitch-yaw [rad], a body or ``pose(rpy)``; ``body_pose`` a body,
 an offset body or ``pose(position, rpy)``; ``body_velocity`` a 6-vector in SI (linear
-then angular). ``current`` holds the value the task has when the target is set.
+then angular); ``gaze`` a body, an offset body or a point [m]. ``current`` holds the
+value the task has when the target is set.
 """
 
 from __future__ import annotations
 
 from ..lang import ast
-from ..lang.catalogue import (JOINT_SPACE, JOINT_VELOCITY_SPACE, ORIENTATION_SPACE, POSE_SPACE,
-                              POSITION, POSITION_SPACE, TWIST_SPACE, VELOCITY, Kind)
+from ..lang.catalogue import (GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE, ORIENTATION_SPACE,
+                              POSE_SPACE, POSITION, POSITION_SPACE, TWIST_SPACE, VELOCITY,
+                              Kind)
 from ..lang.units import ANGLE, LENGTH
 from .context import CheckContext, Joints
 from .values import check_vector, space_dimensions
@@ -30,6 +32,7 @@ _FORMS = {
     POSE_SPACE: "a body, 'BODY offset [x, y, z] m', pose(position = [...] m, "
                 "rpy = [...] deg) or 'current'",
     TWIST_SPACE: "a velocity [vx, vy, vz, wx, wy, wz] in SI or 'current'",
+    GAZE_SPACE: "a body, 'BODY offset [x, y, z] m', a point [x, y, z] m or 'current'",
 }
 _ALLOWED = {
     JOINT_SPACE: {ast.Vector}, JOINT_VELOCITY_SPACE: {ast.Vector},
@@ -37,6 +40,7 @@ _ALLOWED = {
     ORIENTATION_SPACE: {ast.Vector, ast.Reference, ast.Call},
     POSE_SPACE: {ast.Reference, ast.Offset, ast.Call},
     TWIST_SPACE: {ast.Vector},
+    GAZE_SPACE: {ast.Vector, ast.Reference, ast.Offset},
 }
 _POSE_PARTS = {POSITION_SPACE: ("position",), ORIENTATION_SPACE: ("rpy",),
                POSE_SPACE: POSE_ARGUMENTS}

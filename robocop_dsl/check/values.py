@@ -7,7 +7,7 @@ Each ``check_*`` function reports what is wrong with a value and returns it in S
 from __future__ import annotations
 
 from ..lang import ast
-from ..lang.catalogue import (ACCELERATION, JOINT_SPACE, JOINT_VELOCITY_SPACE,
+from ..lang.catalogue import (ACCELERATION, GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE,
                               ORIENTATION_SPACE, POSITION, TWIST_SPACE, VELOCITY)
 from ..lang.units import (ANGLE, ANGULAR_ACCELERATION, ANGULAR_VELOCITY, DIMENSIONLESS,
                           LENGTH, LINEAR_ACCELERATION, LINEAR_VELOCITY, SI_SYMBOL, UNITS,
@@ -24,7 +24,7 @@ def space_dimensions(symbol: str, space: str | None, joints: Joints | None) -> t
         return (symbol,)
     if space in (JOINT_SPACE, JOINT_VELOCITY_SPACE):
         positions = joints.position_dimensions if joints else (ANGLE, LENGTH)
-    elif space == ORIENTATION_SPACE:
+    elif space in (ORIENTATION_SPACE, GAZE_SPACE):
         positions = (ANGLE,)
     elif space == TWIST_SPACE:
         positions = (LENGTH, ANGLE)

@@ -9,9 +9,9 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import check_cmd, graph_cmd, plot_cmd, run_cmd, world_cmd
+from . import check_cmd, graph_cmd, plot_cmd, run_cmd, sweep_cmd, world_cmd
 
-COMMANDS = (check_cmd, run_cmd, graph_cmd, world_cmd, plot_cmd)
+COMMANDS = (check_cmd, run_cmd, graph_cmd, world_cmd, plot_cmd, sweep_cmd)
 
 
 def build_parser() -> argparse.ArgumentParser:

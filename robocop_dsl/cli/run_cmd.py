@@ -27,21 +27,23 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--hierarchy", choices=("strict", "weighted"),
                         help="task hierarchy (overrides the world's controller)")
     parser.add_argument("--log", metavar="DIR", help="write events and time series to DIR")
+    parser.add_argument("--campaign", metavar="CAMPAIGN.yaml",
+                        help="run one job of this campaign: its world variant, controller "
+                             "settings and sampled conditions (with --job)")
+    parser.add_argument("--job", type=int, metavar="N",
+                        help="the job to run: the 'job' column of the sweep's results table")
     parser.set_defaults(command=run)
 
 
 def run(args) -> int:
-    from ..runtime import RunLogger, load_mission
+    from ..runtime import RunLogger
     from .progress import ProgressDisplay, print_summary
 
-    try:
-        mission = load_mission(args.file)
-    except DiagnosticError as error:
-        print(render_all(error.diagnostics), file=sys.stderr)
+    if (args.campaign is None) != (args.job is None):
+        print("robocop-mission run: error: --campaign and --job go together", file=sys.stderr)
         return 2
     try:
-        runner = mission.runner(solver=args.solver, hierarchy=args.hierarchy,
-                                realtime=args.realtime)
+        mission, runner, duration = _prepare(args)
     except DiagnosticError as error:
         print(render_all(error.diagnostics), file=sys.stderr)
         return 2
@@ -49,10 +51,27 @@ def run(args) -> int:
         runner.add_observer(RunLogger(args.log, runner.joint_names))
     display = ProgressDisplay(mission.name)
     runner.add_observer(display)
-    result = runner.run(duration=args.duration,
-                        realtime=args.realtime or runner.driver.realtime)
+    result = runner.run(duration=duration, realtime=args.realtime or runner.driver.realtime)
     display.close()
     print_summary(result, sys.stdout)
     if args.log:
         print(f"log: {args.log}")
     return EXIT_CODES[result.outcome]
+
+
+def _prepare(args) -> tuple:
+    """The mission, its runner and the mission-time cap [s]: of the file, or of a job of
+    ``--campaign`` (its variant, settings and conditions; --solver/--hierarchy override)."""
+    from ..runtime import load_mission
+
+    if args.campaign is not None:
+        from ..campaign.rerun import campaign_job
+
+        job, prepared = campaign_job(args.campaign, args.job, args.file,
+                                     solver=args.solver, hierarchy=args.hierarchy)
+        duration = args.duration if args.duration is not None else job.duration
+        return prepared.mission, prepared.runner, duration
+    mission = load_mission(args.file)
+    runner = mission.runner(solver=args.solver, hierarchy=args.hierarchy,
+                            realtime=args.realtime)
+    return mission, runner, args.duration

@@ -11,6 +11,7 @@ from pathlib import Path
 import networkx as nx
 
 from ..check.context import WorldNames
+from ..check.controllers import controller_of, mission_controllers
 from ..check.values import to_si, vector_to_si
 from ..diagnostics import SourceFile
 from ..lang import ast
@@ -19,7 +20,7 @@ from ..lang.catalogue import (BODY, CONSTRAINTS, FEEDBACKS, INTEGER, INTERPOLATO
 from ..lang.formatter import format_condition
 from . import spec
 
-_SPACE_DOFS = {"position": 3, "orientation": 3, "pose": 6, "twist": 6}
+_SPACE_DOFS = {"position": 3, "orientation": 3, "pose": 6, "twist": 6, "gaze": 2}
 
 
 def compile_mission(mission: ast.Mission, source: SourceFile, world, world_path: Path,
@@ -27,10 +28,11 @@ def compile_mission(mission: ast.Mission, source: SourceFile, world, world_path:
     """The :class:`~spec.MissionSpec` of a mission that checked without errors."""
     names = WorldNames(world)
     header = mission.first(ast.MissionHeader)
-    declared = mission.first(ast.ControllerDecl)
-    controller = declared.name.text if declared else names.controller_names()[0]
-    constraints = {d.name.text: _constraint(d, names) for d in mission.constraints}
-    tasks = {d.name.text: _task(d, names) for d in mission.tasks}
+    controllers = mission_controllers(names, mission)
+    constraints = {d.name.text: _constraint(d, names, controller_of(names, controllers, d))
+                   for d in mission.constraints}
+    tasks = {d.name.text: _task(d, names, controller_of(names, controllers, d))
+             for d in mission.tasks}
     converter = _Converter(mission, names)
     guards = tuple(converter.transition(g, guard=True) for g in mission.guards)
     states = {s.name.text: converter.state(s, guards) for s in mission.states}
@@ -39,8 +41,9 @@ def compile_mission(mission: ast.Mission, source: SourceFile, world, world_path:
                        + [e.name.text for e in mission.of_type(ast.EventDecl)])
     return spec.MissionSpec(
         name=header.name.text, description=header.description, world_path=world_path,
-        controller=controller, constraints=constraints, tasks=tasks, states=states,
-        start=start, guards=guards, events=events, graph=graph, source=source)
+        controller=controllers[0], constraints=constraints, tasks=tasks, states=states,
+        start=start, guards=guards, events=events, graph=graph, source=source,
+        controllers=tuple(controllers))
 
 
 def _parameters(decl) -> dict[str, ast.Value]:
@@ -54,7 +57,7 @@ def _subject(decl, names: WorldNames, registry: Registry):
     return kind, subject, joints
 
 
-def _task(decl: ast.TaskDecl, names: WorldNames) -> spec.TaskSpec:
+def _task(decl: ast.TaskDecl, names: WorldNames, controller: str) -> spec.TaskSpec:
     kind, subject, joints = _subject(decl, names, TASKS)
     given = _parameters(decl)
     dofs = joints.dofs if joints else _SPACE_DOFS[kind.space]
@@ -73,10 +76,11 @@ def _task(decl: ast.TaskDecl, names: WorldNames) -> spec.TaskSpec:
         priority=int(given["priority"].value) if "priority" in given else 0,
         weight=to_si(given["weight"]) if "weight" in given else 1.0,
         gain=to_si(gain) if gain is not None else None,
-        dofs=dofs, span=decl.span)
+        dofs=dofs, span=decl.span, controller=controller)
 
 
-def _constraint(decl: ast.ConstraintDecl, names: WorldNames) -> spec.ConstraintSpec:
+def _constraint(decl: ast.ConstraintDecl, names: WorldNames,
+                controller: str) -> spec.ConstraintSpec:
     kind, subject, joints = _subject(decl, names, CONSTRAINTS)
     given = _parameters(decl)
     dofs = joints.dofs if joints else 1
@@ -93,7 +97,7 @@ def _constraint(decl: ast.ConstraintDecl, names: WorldNames) -> spec.ConstraintS
             if name in values and values[name] is None:
                 values[name] = default
     return spec.ConstraintSpec(decl.name.text, kind.name, subject if joints else None,
-                               None if joints else subject, values, decl.span)
+                               None if joints else subject, values, decl.span, controller)
 
 
 def convert(value: ast.Value, kind: str, dofs: int):

@@ -76,7 +76,8 @@ class TaskSpec:
     """A task: ``type`` from the catalogue (``joint_position``, ``body_pose``...) on a
     ``joint_group`` (joint tasks) or a ``body`` (body tasks), with its ``reference`` body
     (body tasks; ``"world"`` by default). ``gain`` (``None``: the feedback's) and
-    ``weight`` can change while running; ``priority`` 0 is the highest level."""
+    ``weight`` can change while running; ``priority`` 0 is the highest level.
+    ``controller`` is the qp_controller processor that runs it."""
 
     name: str
     type: str
@@ -91,6 +92,7 @@ class TaskSpec:
     gain: float | None
     dofs: int
     span: Span = field(compare=False)
+    controller: str | None = None
 
 
 @dataclass(frozen=True)
@@ -101,7 +103,7 @@ class ConstraintSpec:
     URDF limits by default), ``max_velocity`` (tuple, URDF by default),
     ``max_acceleration`` (tuple or ``None``: not limited). ``body_velocity`` on ``body``:
     ``reference`` (str), ``max_linear`` [m/s] and ``max_angular`` [rad/s] (``None``:
-    not limited).
+    not limited). ``controller`` is the qp_controller processor that runs it.
     """
 
     name: str
@@ -110,6 +112,7 @@ class ConstraintSpec:
     body: str | None
     parameters: dict[str, object]
     span: Span = field(compare=False)
+    controller: str | None = None
 
 
 # ---- actions ---------------------------------------------------------------------------
@@ -298,8 +301,10 @@ class StateSpec:
 
 @dataclass(frozen=True)
 class MissionSpec:
-    """A checked mission. ``world_path`` is the resolved world file; ``controller`` the
-    qp_controller processor that runs the tasks; ``graph`` the state graph (see
+    """A checked mission. ``world_path`` is the resolved world file; ``controllers``
+    the qp_controller processors that run the tasks (several: cascaded, fastest first,
+    see :mod:`robocop_dsl.check.controllers`); ``controller`` the first of them, which
+    runs the state machine; ``graph`` the state graph (see
     :mod:`robocop_dsl.compile.state_graph`). Dicts keep declaration order."""
 
     name: str
@@ -314,6 +319,12 @@ class MissionSpec:
     events: frozenset[str]
     graph: nx.DiGraph = field(compare=False, repr=False)
     source: SourceFile = field(compare=False, repr=False)
+    controllers: tuple[str, ...] = ()
+
+    @property
+    def cascaded(self) -> bool:
+        """Whether several controllers run the mission, each in its own thread."""
+        return len(self.controllers) > 1
 
     def state(self, name: str) -> StateSpec:
         return self.states[name]

@@ -41,6 +41,7 @@ POSITION_SPACE = "position"
 ORIENTATION_SPACE = "orientation"
 POSE_SPACE = "pose"
 TWIST_SPACE = "twist"
+GAZE_SPACE = "gaze"
 
 
 @dataclass(frozen=True)
@@ -140,6 +141,9 @@ for _name, _subject, _space, _doc in (
 ):
     TASKS.register(Kind(_name, _task_parameters(_subject == BODY_SUBJECT), _subject, _space,
                         _doc))
+TASKS.register(Kind("gaze", _task_parameters(True), BODY_SUBJECT, GAZE_SPACE,
+                   "point a body's z axis (a camera's optical axis) at a body or point; "
+                   "its error is the angle off it"))
 
 CONSTRAINTS.register(Kind("joint_kinematic", (
     Parameter("min_position", PER_DOF, POSITION, settable=True,

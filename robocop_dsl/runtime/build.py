@@ -1,5 +1,12 @@
 """From a compiled mission to a running one: the controller with the mission's tasks
-and constraints, and the :class:`Program` of closures the runner executes."""
+and constraints, and the :class:`Program` of closures the runner executes.
+
+In a cascade (see :mod:`robocop_dsl.runtime.cascade`) each controller gets the tasks
+and constraints it runs, and the program, executed by the thread of the first
+controller, reaches the others through a ``remote`` object: ``is_local(name)``,
+``send(name, action)`` (run ``action`` in the thread of the controller that runs task
+or constraint ``name``, on an object whose ``controller`` is that controller) and
+``status(task)`` (its latest :class:`~robocop_dsl.runtime.cascade.TaskStatus`)."""
 
 from __future__ import annotations
 
@@ -13,18 +20,21 @@ from .targets import control_target
 _COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
 
 
-def build_controller(mission: s.MissionSpec, world, kinematics, **overrides) -> Controller:
-    """The mission's controller processor with its constraints (enabled) and tasks
-    (disabled), reading poses from ``kinematics``. ``overrides``: ``solver``,
-    ``hierarchy``, ``time_step`` (``None`` keeps the world's)."""
+def build_controller(mission: s.MissionSpec, world, kinematics, processor: str | None = None,
+                     **overrides) -> Controller:
+    """A controller processor of the mission (default the one running the state machine)
+    with the constraints (enabled) and tasks (disabled) it runs, reading poses from
+    ``kinematics``. ``overrides``: ``solver``, ``hierarchy``, ``time_step`` (``None``
+    keeps the world's)."""
     options = {k: v for k, v in overrides.items() if v is not None}
-    controller = Controller.from_world(world, mission.controller, kinematics=kinematics,
-                                       **options)
-    for constraint in mission.constraints.values():
+    processor = processor or mission.controller
+    controller = Controller.from_world(world, processor, kinematics=kinematics, **options)
+    mine = (lambda spec: spec.controller in (None, processor))
+    for constraint in filter(mine, mission.constraints.values()):
         parameters = {k: v for k, v in constraint.parameters.items() if v is not None}
         controller.add_constraint(constraint.type, constraint.name,
                                   constraint.joint_group or constraint.body, **parameters)
-    for spec in mission.tasks.values():
+    for spec in filter(mine, mission.tasks.values()):
         parameters = {
             "interpolator": make_interpolator(spec.interpolator.kind,
                                               **_scalars(spec.interpolator.parameters)),
@@ -46,21 +56,22 @@ def _scalars(parameters: dict) -> dict:
             for k, v in parameters.items()}
 
 
-def build_program(mission: s.MissionSpec) -> Program:
-    """Closures for every state's actions and clauses, built once."""
+def build_program(mission: s.MissionSpec, remote=None) -> Program:
+    """Closures for every state's actions and clauses, built once; ``remote`` reaches
+    the tasks and constraints of the other controllers of a cascade (see above)."""
     states = {}
     for name, state in mission.states.items():
         own = [t for t in state.transitions if not t.guard]
         states[name] = StateProgram(
             name, state.final, state.outcome or "success",
-            [action(a) for a in state.enter], [action(a) for a in state.during],
-            [action(a) for a in state.exit], [clause(t) for t in own])
-    return Program(states, [clause(t) for t in mission.guards], mission.start)
+            [action(a, remote) for a in state.enter], [action(a, remote) for a in state.during],
+            [action(a, remote) for a in state.exit], [clause(t, remote) for t in own])
+    return Program(states, [clause(t, remote) for t in mission.guards], mission.start)
 
 
-def clause(transition: s.TransitionSpec) -> Clause:
-    return Clause(condition(transition.condition), transition.target, transition.text,
-                  _uses_failure(transition.condition))
+def clause(transition: s.TransitionSpec, remote=None) -> Clause:
+    return Clause(condition(transition.condition, remote), transition.target,
+                  transition.text, _uses_failure(transition.condition))
 
 
 def _uses_failure(spec) -> bool:
@@ -73,52 +84,74 @@ def _uses_failure(spec) -> bool:
     return False
 
 
-def condition(spec):
+def _task_reader(name: str, remote):
+    """A function of the runner that gives task ``name``, or for a task of another
+    controller of a cascade its latest status."""
+    if remote is not None and not remote.is_local(name):
+        return lambda runner: remote.status(name)
+    return lambda runner: runner.controller.task(name)
+
+
+def condition(spec, remote=None):
     """A function of the runner that tells whether ``spec`` holds this cycle."""
     if isinstance(spec, s.ReachedCondition):
-        return lambda runner, name=spec.task: runner.controller.task(name).reached
+        task = _task_reader(spec.task, remote)
+        return lambda runner: task(runner).reached
     if isinstance(spec, s.ControllerFailedCondition):
         return lambda runner: runner.failed
     if isinstance(spec, s.EventCondition):
         return lambda runner, event=spec.event: event in runner.events_now
     if isinstance(spec, s.NotCondition):
-        operand = condition(spec.operand)
+        operand = condition(spec.operand, remote)
         return lambda runner: not operand(runner)
     if isinstance(spec, s.AllCondition):
-        operands = [condition(o) for o in spec.operands]
+        operands = [condition(o, remote) for o in spec.operands]
         return lambda runner: all(o(runner) for o in operands)
     if isinstance(spec, s.AnyCondition):
-        operands = [condition(o) for o in spec.operands]
+        operands = [condition(o, remote) for o in spec.operands]
         return lambda runner: any(o(runner) for o in operands)
-    measure, compare, value = _measure(spec.measure), _COMPARE[spec.operator], spec.value
+    measure, compare, value = _measure(spec.measure, remote), _COMPARE[spec.operator], spec.value
     return lambda runner: compare(measure(runner), value)
 
 
-def _measure(spec):
+def _measure(spec, remote):
     if isinstance(spec, s.ElapsedMeasure):
         return lambda runner: runner.elapsed
     if isinstance(spec, s.TimeMeasure):
         return lambda runner: runner.time
     if isinstance(spec, s.DistanceMeasure):
         return lambda runner, a=spec.first, b=spec.second: runner.kinematics.distance(a, b)
-    return lambda runner, name=spec.task, field=spec.field: getattr(
-        runner.controller.task(name), field)
+    task = _task_reader(spec.task, remote)
+    return lambda runner, field=spec.field: getattr(task(runner), field)
 
 
-def action(spec):
+def _routed(name: str, remote, act):
+    """``act(runner)`` run here, or in the thread of the cascade's controller that runs
+    task or constraint ``name``."""
+    if remote is None or remote.is_local(name):
+        return act
+    return lambda runner: remote.send(name, act)
+
+
+def _each(names, remote, act):
+    """``act(runner, name)`` for each name, each where its controller runs."""
+    parts = [_routed(n, remote, lambda runner, n=n: act(runner, n)) for n in names]
+    return lambda runner: [part(runner) for part in parts]
+
+
+def action(spec, remote=None):
     """A function of the runner that performs ``spec``."""
     if isinstance(spec, s.EnableAction):
-        return lambda runner, names=spec.names: _switch(runner, names, True)
+        return _each(spec.names, remote, lambda runner, n: _switch(runner, n, True))
     if isinstance(spec, s.DisableAction):
-        return lambda runner, names=spec.names: _switch(runner, names, False)
+        return _each(spec.names, remote, lambda runner, n: _switch(runner, n, False))
     if isinstance(spec, s.ResetAction):
-        return lambda runner, names=spec.names: [runner.controller.task(n).reset()
-                                                 for n in names]
+        return _each(spec.names, remote, lambda runner, n: runner.controller.task(n).reset())
     if isinstance(spec, s.SetTargetAction):
-        return lambda runner, name=spec.task, target=spec.target: _set_target(
-            runner, name, target)
+        return _routed(spec.task, remote, lambda runner, name=spec.task, target=spec.target:
+                       _set_target(runner, name, target))
     if isinstance(spec, s.SetParameterAction):
-        return lambda runner, spec=spec: _set_parameter(runner, spec)
+        return _routed(spec.owner, remote, lambda runner, spec=spec: _set_parameter(runner, spec))
     if isinstance(spec, s.AttachAction):
         return lambda runner, body=spec.body, parent=spec.parent: runner.attach(body, parent)
     if isinstance(spec, s.DetachAction):
@@ -135,13 +168,12 @@ def _owner(runner, name: str):
     return controller.constraint(name)
 
 
-def _switch(runner, names, enabled: bool) -> None:
-    for name in names:
-        owner = _owner(runner, name)
-        if enabled:
-            owner.enable()
-        else:
-            owner.disable()
+def _switch(runner, name: str, enabled: bool) -> None:
+    owner = _owner(runner, name)
+    if enabled:
+        owner.enable()
+    else:
+        owner.disable()
 
 
 def _set_target(runner, name: str, target) -> None:

@@ -128,13 +128,10 @@ def _animate(visualizer, frames: list, period: float) -> None:
 
 
 def _position_quaternion(pose: np.ndarray) -> tuple:
-    """Position [m] and three.js quaternion (x, y, z, w) of a pose; a mesh scale folded
-    into its rotation columns is left out (the first frame's transform sets it)."""
+    """Position [m] and three.js quaternion (x, y, z, w) of a rigid pose."""
     from meshcat.transformations import quaternion_from_matrix
 
-    rotation = np.eye(4)
-    rotation[:3, :3] = pose[:3, :3] / np.linalg.norm(pose[:3, :3], axis=0)
-    w, x, y, z = quaternion_from_matrix(rotation)
+    w, x, y, z = quaternion_from_matrix(pose)
     return [float(v) for v in pose[:3, 3]], [float(x), float(y), float(z), float(w)]
 
 

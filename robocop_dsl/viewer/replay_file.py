@@ -14,10 +14,12 @@ import json
 import re
 from pathlib import Path
 
+import meshcat
+
 from .commands import pack, unpack
 from .errors import ViewerError
 
-CLIENT = Path(__import__("meshcat").__file__).parent / "viewer" / "dist" / "main.min.js"
+CLIENT = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
 COMMANDS_ID = "meshcat-commands"
 
 _PAGE = """<!DOCTYPE html>
@@ -25,7 +27,10 @@ _PAGE = """<!DOCTYPE html>
 <head>
 <meta charset="utf-8">
 <title>{title}</title>
-<style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}</style>
+<style>
+body {{ margin: 0; }}
+#meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
+</style>
 </head>
 <body>
 <div id="meshcat-pane"></div>

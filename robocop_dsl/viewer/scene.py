@@ -84,22 +84,15 @@ class Scene:
             visualizer[path].set_transform(pose)
         camera.set_camera(visualizer, *self.camera)
 
-    def new_items(self, record) -> tuple:
-        """Tasks (name -> kind) and states in ``record`` that the scene has not loaded."""
-        tasks = {t.name: t.kind for t in record.tasks
-                 if targets.is_drawn(t) and t.name not in self.tasks}
-        states = [record.state] if record.state not in self.states else []
-        return tasks, states
-
     def load_new(self, visualizer, record) -> None:
         """Send markers and labels for the tasks and state of ``record`` not seen yet."""
-        tasks, states = self.new_items(record)
-        for name, kind in tasks.items():
-            targets.load_markers(visualizer, name, kind)
-            self.tasks[name] = kind
-        for state in states:
-            labels.load_label(visualizer, state, self.label_position)
-            self.states.append(state)
+        for task in record.tasks:
+            if targets.is_drawn(task) and task.name not in self.tasks:
+                targets.load_markers(visualizer, task.name, task.kind)
+                self.tasks[task.name] = task.kind
+        if record.state not in self.states:
+            labels.load_label(visualizer, record.state, self.label_position)
+            self.states.append(record.state)
 
     def frame(self, record, body_poses: dict | None = None) -> Frame:
         """Poses and visibilities for a :class:`~robocop_dsl.runtime.records.CycleRecord`.

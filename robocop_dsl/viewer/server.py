@@ -3,12 +3,14 @@
 meshcat's own server binds its web port on every interface; this one serves the same
 page and bridges the same ZeroMQ commands, bound to 127.0.0.1. Run it with
 ``python -m robocop_dsl.viewer.server [--zmq-url URL]``; it prints ``zmq_url=...`` and
-``web_url=...`` lines, then serves until interrupted.
+``web_url=...`` lines, then serves until interrupted, at a lower priority than the
+process that runs the control loop.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 import tornado.web
@@ -16,6 +18,7 @@ from meshcat.servers.zmqserver import (VIEWER_HTML, VIEWER_ROOT, StaticFileHandl
                                        WebSocketHandler, ZMQWebSocketBridge)
 
 LOOPBACK = "127.0.0.1"
+NICENESS = 10
 
 
 class _LoopbackApplication(tornado.web.Application):
@@ -41,6 +44,8 @@ def main(argv: list | None = None) -> int:
                         help="ZeroMQ address to bind (default: the first free "
                              f"tcp://{LOOPBACK} port from 6000)")
     args = parser.parse_args(argv)
+    if hasattr(os, "nice"):
+        os.nice(NICENESS)
     bridge = LoopbackBridge(zmq_url=args.zmq_url, host=LOOPBACK)
     print(f"zmq_url={bridge.zmq_url}", flush=True)
     print(f"web_url={bridge.web_url}", flush=True)

@@ -1,6 +1,7 @@
 """Task targets as drawn in the scene: a frame triad for pose and orientation targets,
-a sphere for position targets, and a smaller, paler copy (the ghost) at the task's
-interpolated reference. Joint-space and velocity tasks have no place in the scene."""
+a sphere for position targets and for the point a gaze task looks at, and a smaller,
+paler copy (the ghost) at the task's interpolated reference when it is a place in space.
+Joint-space and velocity tasks have no place in the scene."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import numpy as np
 
 ROOT = "targets"
 FRAME_KINDS = ("pose", "orientation")
-POINT_KINDS = ("position",)
+POINT_KINDS = ("position", "gaze")
 DRAWN_KINDS = FRAME_KINDS + POINT_KINDS
 TARGET, REFERENCE = "target", "reference"
 
@@ -37,7 +38,7 @@ def load_markers(visualizer, task: str, kind: str) -> None:
     Args:
         visualizer: A ``meshcat.Visualizer`` (root path).
         task: The task's name.
-        kind: ``pose``, ``orientation`` or ``position``.
+        kind: ``pose``, ``orientation``, ``position`` or ``gaze``.
     """
     for which, scale, opacity in ((TARGET, 1.0, 1.0), (REFERENCE, GHOST_SCALE, GHOST_OPACITY)):
         node = visualizer[marker_path(task, which)]
@@ -74,27 +75,30 @@ def marker_poses(task, body_position) -> dict:
     """Where a task's markers go.
 
     Args:
-        task: A :class:`~robocop_dsl.runtime.records.TaskView` of a drawn kind.
+        task: A :class:`~robocop_dsl.runtime.records.TaskView` of a drawn kind: its
+            target and reference are 4x4 poses for frames, 3-vectors [m] or 4x4 poses
+            (their origin) for points.
         body_position: Callable giving a body's current position [m]; an orientation
             target is drawn at its body's position.
 
     Returns:
-        Marker path -> 4x4 world pose [m]; a marker without a value (a task with no
-        target yet) is left out.
+        Marker path -> 4x4 world pose [m]; a marker without a place in space (no target
+        yet, a gaze task's reference) is left out.
     """
     poses = {}
-    size = 16 if task.kind in FRAME_KINDS else 3
     for which, value in ((TARGET, task.target), (REFERENCE, task.reference)):
-        if value is None or np.size(value) != size:
-            continue
-        value = np.asarray(value, dtype=float)
+        size = 0 if value is None else np.size(value)
         pose = np.eye(4)
-        if task.kind in FRAME_KINDS:
-            pose = value.reshape(4, 4).copy()
-            if task.kind == "orientation" and task.body is not None:
+        if size == 16:
+            pose = np.asarray(value, dtype=float).reshape(4, 4).copy()
+            if task.kind in POINT_KINDS:
+                pose[:3, :3] = np.eye(3)
+            elif task.kind == "orientation" and task.body is not None:
                 pose[:3, 3] = body_position(task.body)
+        elif size == 3 and task.kind in POINT_KINDS:
+            pose[:3, 3] = np.asarray(value, dtype=float)
         else:
-            pose[:3, 3] = value.reshape(3)
+            continue
         poses[marker_path(task.name, which)] = pose
     return poses
 

@@ -8,15 +8,16 @@ from .body_orientation import BodyOrientationTask
 from .body_pose import BodyPoseTask
 from .body_position import BodyPositionTask
 from .body_velocity import BodyVelocityTask
+from .gaze import GazeTask
 from .joint_position import JointPositionTask
 from .joint_velocity import JointVelocityTask
 
 TASKS: dict[str, type[Task]] = {
     cls.kind: cls for cls in (JointPositionTask, JointVelocityTask, BodyPositionTask,
-                              BodyOrientationTask, BodyPoseTask, BodyVelocityTask)
+                              BodyOrientationTask, BodyPoseTask, BodyVelocityTask, GazeTask)
 }
 
 __all__ = [
     "BodyOrientationTask", "BodyPoseTask", "BodyPositionTask", "BodyTask",
-    "BodyVelocityTask", "JointPositionTask", "JointVelocityTask", "TASKS", "Task",
+    "BodyVelocityTask", "GazeTask", "JointPositionTask", "JointVelocityTask", "TASKS", "Task",
 ]

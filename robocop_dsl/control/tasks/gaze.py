@@ -1,0 +1,124 @@
+"""The ``gaze`` task: point an axis of a body (a camera's optical axis) at a body."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from ..exceptions import InvalidParameter
+from ..parameters import vector_parameter
+from ..spatial import BodyTarget, Current, skew
+from ..state import ControlState
+from .base import Task
+from .body import BodyTask
+
+_AXES = {"x": (1, 2, 0), "y": (2, 0, 1), "z": (0, 1, 2)}
+
+
+class GazeTask(BodyTask):
+    """Turn ``body`` so that its ``axis`` points at a watched body or point.
+
+    The task value is the pair of components, across the axis, of the unit direction
+    from the body's origin to the watched point, in the body's frame [-] (the sines of
+    the angles off the axis); the goal is ``(0, 0)``. Only the joints that move
+    ``body`` turn it: the watched point's own motion (a part carried by an arm) is
+    corrected by the feedback loop, never by moving what is watched.
+
+    Args:
+        name: The task's name.
+        state: The controller's state.
+        body: The body to turn (e.g. ``kinect2_rgb_optical_frame``).
+        axis: The body's axis to point, ``x``, ``y`` or ``z`` (optical frames: ``z``).
+        **parameters: Those of :class:`BodyTask`; ``target`` is what to look at: a body
+            name, a :class:`BodyTarget` (its offset [m] in the reference frame), a point
+            [m] in the reference frame, or ``None``/``CURRENT``: nothing (the task then
+            asks for no motion).
+
+    Raises:
+        InvalidParameter: ``axis`` is not ``x``, ``y`` or ``z``.
+    """
+
+    kind = "gaze"
+
+    def __init__(self, name: str, state: ControlState, body: str, axis: str = "z",
+                 **parameters):
+        if axis not in _AXES:
+            raise InvalidParameter(f"gaze '{name}'", "axis", axis, "x, y or z")
+        self.axis = axis
+        self._rows = np.eye(3)[list(_AXES[axis])]
+        self._watched = None
+        super().__init__(name, state, body, 2, **parameters)
+
+    @property
+    def target(self):
+        """What the body looks at: a :class:`BodyTarget`, a point [m] or ``None``."""
+        return self._watched
+
+    @target.setter
+    def target(self, value) -> None:
+        if isinstance(value, str):
+            value = BodyTarget(value)
+        if isinstance(value, BodyTarget):
+            self.state.body(value.body)
+            if value.offset is not None and not isinstance(value.offset, pin.SE3):
+                value = BodyTarget(value.body, self.convert_offset(value.offset))
+        elif value is not None and not isinstance(value, Current):
+            value = vector_parameter(self.label, "target", value, 3)
+        self._watched = None if isinstance(value, Current) else value
+        Task.target.fset(self, np.zeros(2))
+
+    def _direction(self, state: ControlState):
+        """``(u, p, d)``: unit direction [-], vector [m] and distance [m] from the body's
+        origin to the watched point, in the body's frame; ``None`` when nothing is
+        watched or the point is at the origin."""
+        watched = self._watched
+        if watched is None:
+            return None
+        if isinstance(watched, BodyTarget):
+            point = watched.apply(state.pose(state.body(watched.body),
+                                             self.reference_id)).translation
+        else:
+            point = watched
+        pose = self.pose(state)
+        local = pose.rotation.T @ (point - pose.translation)
+        distance = float(np.linalg.norm(local))
+        return None if distance < 1e-9 else (local / distance, local, distance)
+
+    def compute_value(self, state: ControlState) -> np.ndarray:
+        found = self._direction(state)
+        return np.zeros(2) if found is None else (self._rows @ found[0])[:2]
+
+    def compute_error(self, state: ControlState, reference: np.ndarray) -> np.ndarray:
+        return reference - self.compute_value(state)
+
+    def compute_jacobian(self, state: ControlState) -> np.ndarray:
+        found = self._direction(state)
+        if found is None:
+            return np.zeros((2, state.dofs))
+        unit, local, distance = found
+        rotation_t = self.pose(state).rotation.T
+        jacobian = state.jacobian(self.body_id, self.reference_id)
+        local_rate = skew(local) @ rotation_t @ jacobian[3:] - rotation_t @ jacobian[:3]
+        projection = (np.eye(3) - np.outer(unit, unit)) / distance
+        return (self._rows @ projection @ local_rate)[:2]
+
+    @property
+    def angle(self) -> float:
+        """Angle between the axis and the direction to the watched point [rad]; 0 when
+        nothing is watched."""
+        found = self._direction(self.state) if self.state.kinematics.q is not None else None
+        if found is None:
+            return 0.0
+        return float(np.arccos(np.clip(self._rows[2] @ found[0], -1.0, 1.0)))
+
+    @property
+    def error(self) -> float:
+        """The angle off the watched point [rad] (see :attr:`angle`)."""
+        return self.angle
+
+    def describe(self) -> str:
+        return (f"body={self.body!r}, axis={self.axis!r}, reference={self.reference!r}, "
+                f"watching={self._watched!r}, ")
+
+    def parameters(self) -> dict:
+        return {**super().parameters(), "target": self._watched, "axis": self.axis}
