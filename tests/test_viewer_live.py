@@ -195,3 +195,10 @@ def test_viewer_changes_nothing_in_the_run(make_viewer):
         [(t.time, t.target) for t in headless.transitions]
     np.testing.assert_allclose(last.record.q, alone.record.q, rtol=0, atol=1e-9)
     assert len(viewer.problems) == (1 if make_viewer is killed_viewer else 0)
+
+
+def test_malformed_address_is_an_error(bazar):
+    """An address ZeroMQ cannot use is refused with the address in the message."""
+    with pytest.raises(ViewerConnectionError, match="cannot connect to a Meshcat server at "
+                                                    "'localhost:6000'"):
+        LiveViewer(bazar, zmq_url="localhost:6000")

@@ -7,10 +7,13 @@ import meshcat
 import numpy as np
 import pinocchio as pin
 import pytest
+import umsgpack
+from meshcat.commands import SetTransform
+from meshcat.path import Path
 
 from robocop_dsl.runtime.records import CycleRecord, TaskView
 from robocop_dsl.viewer import Scene, ViewerError, ViewerOptions, viewer_options
-from robocop_dsl.viewer.commands import CommandLog
+from robocop_dsl.viewer.commands import CommandLog, pack_transform
 from robocop_dsl.viewer.geometry import WorldGeometry, body_path
 from robocop_dsl.world import Processor
 
@@ -212,3 +215,12 @@ def test_gaze_target_is_a_sphere_at_the_watched_point(bazar):
     np.testing.assert_allclose(frame.poses["targets/watch/target"][:3, 3], watched[:3, 3])
     assert frame.visible["targets/watch/target"] is True
     assert frame.visible["targets/watch/reference"] is False
+
+
+def test_fast_transform_packing_matches_meshcat():
+    """The publisher's packed transforms are byte for byte meshcat's own."""
+    matrix = np.arange(16.0).reshape(4, 4) / 7
+    for path in ("/meshcat/a", "/meshcat/world/visuals/bazar_right_hankamp_tool_robot_side",
+                 "/meshcat/" + "long" * 80):
+        expected = umsgpack.packb(SetTransform(matrix, Path(tuple(path[1:].split("/")))).lower())
+        assert pack_transform(path, matrix) == expected

@@ -74,7 +74,7 @@ def test_bazar_limits_from_the_datasheet(bazar):
 def test_initial_posture_applies_to_the_group(bazar):
     q = bazar.initial_configuration()
     arms = bazar.joint_group("bazar_arms")
-    np.testing.assert_allclose(q[arms.q_indices], [0, 0.25, 0, -2, 0, 0.7, 0] * 2)
+    np.testing.assert_allclose(q[arms.q_indices], [0, 0, 0, -0.5, 0, 0.5, 0] * 2)
 
 
 def test_search_order_own_folder_first(tmp_path, monkeypatch):

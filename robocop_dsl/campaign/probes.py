@@ -28,6 +28,8 @@ class Budget(Observer):
     """Stops a run, by raising :class:`BudgetExceeded` from a cycle, once the wall time
     since ``started`` (a ``time.perf_counter()`` reading) exceeds ``seconds``."""
 
+    wants_tasks = False
+
     def __init__(self, seconds: float | None, started: float):
         self.seconds = seconds
         self.deadline = math.inf if seconds is None else started + seconds
@@ -50,6 +52,8 @@ class Probe(Observer):
     """Follows a run for the results table: the smallest joint-limit margin over the run
     and the largest task error in its last cycle."""
 
+    wants_tasks = False
+
     def __init__(self):
         self.margin = math.inf
         self.limit_joint = ""
@@ -57,8 +61,10 @@ class Probe(Observer):
         self.tasks: tuple = ()
         self._lower = self._upper = None
         self._names: list = []
+        self._runner = None
 
     def on_start(self, runner) -> None:
+        self._runner = runner
         group = runner.controller.joint_group
         self._lower, self._upper = np.asarray(group.lower), np.asarray(group.upper)
         self._names = list(runner.joint_names)
@@ -70,8 +76,10 @@ class Probe(Observer):
             if margins[index] < self.margin:
                 self.margin = float(margins[index])
                 self.limit_joint = self._names[index]
-        self.tasks = record.tasks
         self.cycles += 1
+
+    def on_stop(self, result) -> None:
+        self.tasks = self._runner.task_views()
 
     def fields(self) -> dict:
         """``worst_task_error`` [m or rad] (NaN when no task was enabled at the end),

@@ -18,6 +18,8 @@ REFRESH = 0.1
 class ProgressDisplay(Observer):
     """Shows mission time and the active state; refreshes at most every 0.1 s of wall time."""
 
+    wants_tasks = False
+
     def __init__(self, mission_name: str, stream=None):
         self.console = Console(file=stream or sys.stderr)
         self.mission_name = mission_name

@@ -10,7 +10,7 @@ import numpy as np
 
 from .constraints import CONSTRAINTS, Constraint
 from .exceptions import DuplicateName, InvalidParameter, UnknownKind, UnknownName
-from .hierarchy import Bounds, Objective, solve_levels
+from .hierarchy import Hierarchy, Objective
 from .kinematics import Kinematics
 from .parameters import scalar_parameter
 from .results import ControlResult, Timings
@@ -26,13 +26,11 @@ class _Plan:
     """What stays fixed while no task or constraint is enabled, disabled or re-prioritised."""
 
     revision: int
-    tasks: list
-    levels: list
-    solvers: list
-    regularisation: np.ndarray
+    tasks: list[tuple[Task, slice]]
+    hierarchy: Hierarchy
     full_box: Constraint | None
-    boxes: list
-    rows: list
+    boxes: list[Constraint]
+    rows: list[tuple[Constraint, slice]]
 
 
 class Controller:
@@ -221,24 +219,29 @@ class Controller:
         self.update_state(q, dq)
         state = self.state
         plan = self._plan()
+        hierarchy = plan.hierarchy
+        jacobian, velocity, weight = hierarchy.jacobian, hierarchy.velocity, hierarchy.weight
         after_kinematics = time.perf_counter()
         objectives = []
-        for task in plan.tasks:
+        for task, rows in plan.tasks:
             if not task.target_is_finite():
-                return self._refuse(f"target of {task.label} is not finite", start)
-            jacobian, velocity = task.compute_objective(state)
-            if not math.isfinite(velocity @ velocity):
-                return self._refuse(f"reference of {task.label} is not finite", start)
-            objectives.append(Objective(task.name, jacobian, velocity, task.weight))
+                reason = _unbounded_reference(plan.tasks, objectives)
+                return self._refuse(reason or f"target of {task.label} is not finite", start)
+            task_jacobian, task_velocity = task.compute_objective(state)
+            task_weight = task.weight
+            jacobian[rows] = task_jacobian
+            velocity[rows] = task_velocity
+            weight[rows] = task_weight
+            objectives.append(Objective(task.name, task_jacobian, task_velocity, task_weight))
+        if not math.isfinite(velocity.dot(velocity)):
+            reason = _unbounded_reference(plan.tasks, objectives)
+            if reason:
+                return self._refuse(reason, start)
         after_tasks = time.perf_counter()
-        bounds = self._bounds(plan)
-        if bounds is None:
+        if not self._bounds(plan):
             return self._refuse("constraints have no common solution", start)
         after_constraints = time.perf_counter()
-        levels = [(priority, [objectives[i] for i in indices])
-                  for priority, indices in plan.levels]
-        command, level_results, self.problems = solve_levels(levels, bounds, plan.solvers,
-                                                             plan.regularisation)
+        command, level_results, self.problems = hierarchy.solve(objectives)
         end = time.perf_counter()
         if command is None:
             return self._refuse("no QP solution (constraints infeasible or solver failure)",
@@ -252,18 +255,18 @@ class Controller:
         model = self.kinematics.model
         if q.shape != (model.nq,):
             return f"configuration has shape {q.shape}, expected ({model.nq},)"
-        if not math.isfinite(q @ q):
+        if not math.isfinite(q.dot(q)):
             return "configuration is not finite"
         if dq is not None:
             dq = np.asarray(dq, dtype=float)
             if dq.shape != (model.nv,):
                 return f"velocity has shape {dq.shape}, expected ({model.nv},)"
-            if not math.isfinite(dq @ dq):
+            if not math.isfinite(dq.dot(dq)):
                 return "velocity is not finite"
         return None
 
     def _plan(self) -> _Plan:
-        """The enabled tasks and constraints, levels and solvers (rebuilt on changes)."""
+        """The enabled tasks and constraints, levels and QP buffers (rebuilt on changes)."""
         plan = self._cached_plan
         if plan is not None and plan.revision == self.state.revision:
             return plan
@@ -279,40 +282,42 @@ class Controller:
         everything = np.arange(self.state.dofs)
         boxes = [c for c in constraints if c.box_columns is not None]
         first = next((c for c in boxes if np.array_equal(c.box_columns, everything)), None)
-        plan = _Plan(self.state.revision, tasks, levels,
-                     [make_solver(self.solver) for _ in levels],
-                     np.eye(self.state.dofs) * self.damping, first,
-                     [c for c in boxes if c is not first],
-                     [c for c in constraints if c.box_columns is None])
+        rows, count = [], 0
+        for constraint in constraints:
+            if constraint.box_columns is None:
+                rows.append((constraint, slice(count, count + constraint.rows)))
+                count += constraint.rows
+        hierarchy = Hierarchy(levels, [task.name for task in tasks],
+                              [task.dimension for task in tasks], self.state.dofs, count,
+                              [make_solver(self.solver) for _ in levels], self.damping)
+        plan = _Plan(self.state.revision,
+                     [(task, hierarchy.task_rows(index)) for index, task in enumerate(tasks)],
+                     hierarchy, first, [c for c in boxes if c is not first], rows)
         self._cached_plan = plan
         return plan
 
-    def _bounds(self, plan: _Plan) -> Bounds | None:
+    def _bounds(self, plan: _Plan) -> bool:
+        """Write the constraints' bounds and rows into the plan's QPs; ``False`` when
+        the box bounds of several constraints leave no common command."""
         state = self.state
-        n = state.dofs
+        hierarchy = plan.hierarchy
+        lower, upper = hierarchy.lower, hierarchy.upper
         if plan.full_box is not None:
-            lower, upper = plan.full_box.compute_bounds(state)
-        else:
-            lower, upper = np.full(n, -np.inf), np.full(n, np.inf)
+            lower[:], upper[:] = plan.full_box.compute_bounds(state)
+        elif plan.boxes:
+            lower.fill(-np.inf)
+            upper.fill(np.inf)
         for constraint in plan.boxes:
             low, high = constraint.compute_bounds(state)
             columns = constraint.box_columns
             lower[columns] = np.maximum(lower[columns], low)
             upper[columns] = np.minimum(upper[columns], high)
-        if plan.rows:
-            matrices, row_lower, row_upper = [], [], []
-            for constraint in plan.rows:
-                low, high = constraint.compute_bounds(state)
-                matrices.append(constraint.compute_jacobian(state))
-                row_lower.append(low)
-                row_upper.append(high)
-            bounds = Bounds(lower, upper, np.vstack(matrices), np.concatenate(row_lower),
-                            np.concatenate(row_upper))
-        else:
-            bounds = Bounds(lower, upper, np.zeros((0, n)), np.zeros(0), np.zeros(0))
-        if (lower > upper).any() or (bounds.l > bounds.u).any():
-            return None
-        return bounds
+        for constraint, rows in plan.rows:
+            hierarchy.l[rows], hierarchy.u[rows] = constraint.compute_bounds(state)
+            hierarchy.C[rows] = constraint.compute_jacobian(state)
+        if plan.boxes and np.count_nonzero(np.greater(lower, upper)):
+            return False
+        return not (plan.rows and np.count_nonzero(np.greater(hierarchy.l, hierarchy.u)))
 
     def _refuse(self, reason: str, start: float) -> ControlResult:
         self._cached_plan = None
@@ -333,3 +338,12 @@ class Controller:
                 f"time_step={self.time_step}, solver={self.solver!r}, "
                 f"hierarchy={self.hierarchy!r}, tasks={enabled_tasks}/{len(self._tasks)} "
                 f"enabled, constraints={enabled_constraints}/{len(self._constraints)} enabled)")
+
+
+def _unbounded_reference(tasks: list[tuple[Task, slice]], objectives: list[Objective]):
+    """Why the cycle is refused if one of ``objectives`` has a non-finite velocity (the
+    first, in the order of ``tasks``), else ``None``."""
+    for (task, _), objective in zip(tasks, objectives):
+        if not math.isfinite(objective.velocity.dot(objective.velocity)):
+            return f"reference of {task.label} is not finite"
+    return None

@@ -7,13 +7,16 @@ constraints and to equality constraints ``J_j dq = J_j dq*`` on the task velocit
 of level ``k - 1``). A lower level can therefore only use the freedom left by the
 levels above and never changes their achieved task velocities. If a lower level has
 no solution, the command of the level above is kept.
+
+The QPs are assembled in place: a :class:`Hierarchy` owns, for one set of enabled
+tasks and constraints, the stacked task rows (level by level, so the equality rows
+of level ``k`` are the rows of the levels above it, without copying), the constraint
+rows and bounds, and one :class:`QuadraticProgram` per level over those buffers.
 """
 
 from __future__ import annotations
 
 import math
-
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -34,75 +37,120 @@ class Objective(NamedTuple):
     weight: np.ndarray
 
 
-@dataclass(slots=True)
-class Bounds:
-    """The enabled constraints: box bounds and rows ``l <= C dq <= u``."""
-
-    lower: np.ndarray
-    upper: np.ndarray
-    C: np.ndarray
-    l: np.ndarray
-    u: np.ndarray
-
-
-def level_problem(objectives: list[Objective], bounds: Bounds, regularisation: np.ndarray,
-                  equalities: tuple[np.ndarray, np.ndarray]) -> QuadraticProgram:
-    """The QP of one level: weighted task residuals plus ``dq' regularisation dq``."""
-    A, b = equalities
-    if not objectives:
-        return QuadraticProgram(regularisation, np.zeros(regularisation.shape[0]), A, b,
-                                bounds.C, bounds.l, bounds.u, bounds.lower, bounds.upper)
-    if len(objectives) == 1:
-        _, jacobian, velocity, weight = objectives[0]
-    else:
-        jacobian = np.vstack([objective.jacobian for objective in objectives])
-        velocity = np.concatenate([objective.velocity for objective in objectives])
-        weight = np.concatenate([objective.weight for objective in objectives])
-    weighted = jacobian.T * weight
-    return QuadraticProgram(weighted @ jacobian + regularisation, -(weighted @ velocity), A, b,
-                            bounds.C, bounds.l, bounds.u, bounds.lower, bounds.upper)
+class _Level(NamedTuple):
+    priority: int
+    tasks: list[int]
+    names: tuple[str, ...]
+    jacobian: np.ndarray
+    velocity: np.ndarray
+    weight: np.ndarray
+    weighted: np.ndarray
+    regularisation: np.ndarray
+    program: QuadraticProgram
+    solver: QPSolver
 
 
-def solve_levels(levels: list[tuple[int, list[Objective]]], bounds: Bounds,
-                 solvers: list[QPSolver], regularisation: np.ndarray):
-    """Solve the levels in order.
+class Hierarchy:
+    """The QPs of the priority levels, with buffers reused from cycle to cycle.
 
-    A level with no task minimises ``|dq|^2`` alone (the smallest feasible command);
-    the others add ``dq' regularisation dq`` to their tasks' residual. Solutions of
-    backends that do not guarantee their tolerance are checked against the
-    constraints (:data:`FEASIBILITY_TOLERANCE`).
+    Each cycle the controller writes the task rows (:meth:`task_rows`) into
+    :attr:`jacobian`, :attr:`velocity` and :attr:`weight`, the box bounds into
+    :attr:`lower` / :attr:`upper` and the constraint rows into :attr:`C`, :attr:`l`
+    and :attr:`u`, then calls :meth:`solve`.
 
-    Returns:
-        ``(command, level_results, problems)``; ``command`` is ``None`` when the first
-        level has no solution.
+    Args:
+        levels: ``(priority, task indices)`` per level, highest priority first; only
+            a single level may have no task (it then minimises ``|dq|^2`` alone).
+        names: The name of every task, by index.
+        dimensions: The number of rows of every task, by index.
+        dofs: Size of the command.
+        constraint_rows: Number of constraint rows ``l <= C dq <= u``.
+        solvers: One solver per level.
+        damping: Weight of ``|dq|^2`` added to the levels with tasks [-].
     """
-    n = bounds.lower.shape[0]
-    command = None
-    statuses: list[tuple[bool, str]] = []
-    problems: list[QuadraticProgram] = []
-    kept_rows: list[np.ndarray] = []
-    equalities = (np.zeros((0, n)), np.zeros(0))
-    for (priority, objectives), solver in zip(levels, solvers):
-        if kept_rows:
-            A = np.vstack(kept_rows)
-            equalities = (A, A @ command)
-        problem = level_problem(objectives, bounds,
-                                regularisation if objectives else np.eye(n), equalities)
-        problems.append(problem)
-        solution = solver.solve(problem)
-        solved = solution.found and math.isfinite(solution.x @ solution.x)
-        if solved and not solver.guarantees_tolerance:
-            solved = problem.violation(solution.x) <= FEASIBILITY_TOLERANCE
-        statuses.append((solved, solution.status))
-        if not solved:
-            break
-        command = solution.x
-        kept_rows.extend(objective.jacobian for objective in objectives)
-    if command is None:
-        return None, (), problems
-    results = []
-    for index, (priority, objectives) in enumerate(levels):
-        solved, status = statuses[index] if index < len(statuses) else (False, "not run")
-        results.append(LevelResult(priority, tuple([o.name for o in objectives]), solved,
-                                   status, tuple(objectives), command))
-    return command, tuple(results), problems
+
+    def __init__(self, levels: list[tuple[int, list[int]]], names: list[str],
+                 dimensions: list[int], dofs: int, constraint_rows: int,
+                 solvers: list[QPSolver], damping: float):
+        total = sum(dimensions)
+        self.jacobian = np.zeros((total, dofs))
+        self.velocity = np.zeros(total)
+        self.weight = np.zeros(total)
+        self.lower = np.full(dofs, -np.inf)
+        self.upper = np.full(dofs, np.inf)
+        self.C = np.zeros((constraint_rows, dofs))
+        self.l = np.zeros(constraint_rows)
+        self.u = np.zeros(constraint_rows)
+        self._rows: list[slice] = [slice(0)] * len(dimensions)
+        self._levels: list[_Level] = []
+        start = 0
+        for (priority, tasks), solver in zip(levels, solvers):
+            end = start
+            for index in tasks:
+                self._rows[index] = slice(end, end + dimensions[index])
+                end += dimensions[index]
+            if tasks:
+                hessian, regularisation = np.zeros((dofs, dofs)), np.eye(dofs) * damping
+            else:
+                hessian, regularisation = np.eye(dofs), np.zeros((dofs, dofs))
+            program = QuadraticProgram(hessian, np.zeros(dofs), self.jacobian[:start],
+                                       np.zeros(start), self.C, self.l, self.u, self.lower,
+                                       self.upper)
+            self._levels.append(_Level(
+                priority, list(tasks), tuple(names[index] for index in tasks),
+                self.jacobian[start:end], self.velocity[start:end], self.weight[start:end],
+                np.zeros((dofs, end - start), order="F"), regularisation, program, solver))
+            start = end
+        self.problems = [level.program for level in self._levels]
+        """The QP of each level, overwritten by every cycle."""
+
+    def task_rows(self, index: int) -> slice:
+        """The rows of task ``index`` in :attr:`jacobian`, :attr:`velocity`, :attr:`weight`."""
+        return self._rows[index]
+
+    def solve(self, objectives: list[Objective]):
+        """Solve the levels in order.
+
+        A level with no task minimises ``|dq|^2`` alone (the smallest feasible
+        command); the others add ``damping |dq|^2`` to their tasks' residual.
+        Solutions of backends that do not guarantee their tolerance are checked
+        against the constraints (:data:`FEASIBILITY_TOLERANCE`).
+
+        Args:
+            objectives: The objective of every task, by index (the results keep them).
+
+        Returns:
+            ``(command, level_results, problems)``: ``problems`` are the QPs that were
+            solved; ``command`` is ``None`` when the first level has no solution.
+        """
+        command = None
+        statuses: list[tuple[bool, str]] = []
+        for level in self._levels:
+            program = level.program
+            if level.tasks:
+                weighted = level.weighted
+                np.multiply(level.jacobian.T, level.weight, out=weighted)
+                weighted.dot(level.jacobian, out=program.H)
+                np.add(program.H, level.regularisation, out=program.H)
+                weighted.dot(level.velocity, out=program.g)
+                np.negative(program.g, out=program.g)
+            if command is not None:
+                program.A.dot(command, out=program.b)
+            solver = level.solver
+            solution = solver.solve(program)
+            solved = solution.found and math.isfinite(solution.x.dot(solution.x))
+            if solved and not solver.guarantees_tolerance:
+                solved = program.violation(solution.x) <= FEASIBILITY_TOLERANCE
+            statuses.append((solved, solution.status))
+            if not solved:
+                break
+            command = solution.x
+        problems = self.problems[:len(statuses)]
+        if command is None:
+            return None, (), problems
+        results = []
+        for index, level in enumerate(self._levels):
+            solved, status = statuses[index] if index < len(statuses) else (False, "not run")
+            results.append(LevelResult(level.priority, level.names, solved, status,
+                                       tuple([objectives[i] for i in level.tasks]), command))
+        return command, tuple(results), problems

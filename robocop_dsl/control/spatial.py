@@ -73,7 +73,7 @@ def rotation_error(target: np.ndarray, rotation: np.ndarray) -> np.ndarray:
 def pose_error(target: pin.SE3, pose: pin.SE3) -> np.ndarray:
     """SE(3) logarithm of ``pose^-1 target`` rotated into the reference axes [m, rad]."""
     twist = pin.log6(pose.actInv(target)).vector
-    return (twist.reshape(2, 3) @ pose.rotation.T).reshape(6)
+    return twist.reshape(2, 3).dot(pose.rotation.T).reshape(6)
 
 
 def relative_jacobian(jacobian: np.ndarray, pose: pin.SE3, reference_jacobian: np.ndarray,

@@ -39,6 +39,7 @@ class ControlState:
         self.dofs = group.dofs
         self.v_indices = np.asarray(group.v_indices, dtype=int)
         self.q_indices = np.asarray(group.q_indices, dtype=int)
+        self._columns = _as_slice(self.v_indices)
         self.velocity = np.zeros(self.dofs)
         self.previous_command = np.zeros(self.dofs)
         self.revision = 0
@@ -86,14 +87,14 @@ class ControlState:
         jacobian = self._jacobians.get(key)
         if jacobian is None:
             kinematics = self.kinematics
-            jacobian = kinematics.jacobian(frame_id)[:, self.v_indices]
+            jacobian = kinematics.jacobian(frame_id)[:, self._columns]
             if reference_id != 0:
                 reference_pose = kinematics.pose(reference_id)
                 if kinematics.is_fixed(reference_id):
                     rotation_t = reference_pose.rotation.T
                     jacobian = np.vstack((rotation_t @ jacobian[:3], rotation_t @ jacobian[3:]))
                 else:
-                    reference = kinematics.jacobian(reference_id)[:, self.v_indices]
+                    reference = kinematics.jacobian(reference_id)[:, self._columns]
                     jacobian = relative_jacobian(jacobian, kinematics.pose(frame_id),
                                                  reference, reference_pose)
             self._jacobians[key] = jacobian
@@ -101,3 +102,10 @@ class ControlState:
 
     def __repr__(self) -> str:
         return f"ControlState(group={self.group.name!r}, dofs={self.dofs}, dt={self.time_step})"
+
+
+def _as_slice(indices: np.ndarray):
+    """``indices`` as a slice when they are consecutive (views instead of copies)."""
+    if len(indices) and np.array_equal(indices, np.arange(indices[0], indices[0] + len(indices))):
+        return slice(int(indices[0]), int(indices[0]) + len(indices))
+    return indices

@@ -31,6 +31,7 @@ import numpy as np
 from ..diagnostics import RobocopError
 from ..drivers import AsyncWorldWriter
 from .runner import Runner
+from .views import task_views
 
 
 @dataclass(frozen=True)
@@ -62,6 +63,8 @@ class ControllerStatus:
         message: Why the last failure happened.
         fault: Why the thread stopped controlling (driver lost...), or ``None``.
         tasks: :class:`TaskStatus` by task name.
+        views: The :class:`~robocop_dsl.runtime.records.TaskView` of its enabled tasks,
+            for observers.
     """
 
     cycle: int = 0
@@ -71,6 +74,7 @@ class ControllerStatus:
     message: str = ""
     fault: str | None = None
     tasks: dict = field(default_factory=dict)
+    views: tuple = ()
 
 
 class Link:
@@ -304,7 +308,7 @@ class ControllerThread:
                  for t in self.controller.tasks()}
         self.link.publish_status(ControllerStatus(self.cycle, self._applied, failed,
                                                   self._failures, message, self._fault,
-                                                  tasks))
+                                                  tasks, task_views(self.controller)))
 
     def _fail(self, reason: str) -> None:
         self._fault = reason
@@ -371,6 +375,11 @@ class CascadeRunner(Runner):
         pose = self.kinematics.body_pose(body)
         super().detach(body)
         self.remote.broadcast(lambda thread: thread.kinematics.place(body, "world", pose))
+
+    def task_views(self) -> tuple:
+        """The enabled tasks of every controller, the others' as of their last cycle."""
+        return super().task_views() + tuple(view for thread in self.threads
+                                            for view in thread.link.status.views)
 
     def _read(self) -> None:
         super()._read()

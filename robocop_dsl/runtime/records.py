@@ -64,7 +64,13 @@ class Event:
 
 
 class Observer:
-    """Watches a run without changing it; every hook is optional."""
+    """Watches a run without changing it; every hook is optional.
+
+    ``wants_tasks``: whether ``on_cycle`` reads ``record.tasks``; the runner builds the
+    task views (the costly part of a record) only when an observer wants them.
+    """
+
+    wants_tasks = True
 
     def on_start(self, runner) -> None:
         """Called once before the first cycle."""

@@ -44,6 +44,7 @@ class Runner:
         self.time_step = controller.time_step
         self.joint_names = list(controller.joint_group.joints)
         self.observers: list = []
+        self._wants_tasks = False
         self.cycle = 0
         self.failed = False
         self.events_now: set = set()
@@ -87,6 +88,11 @@ class Runner:
 
     def add_observer(self, observer) -> None:
         self.observers.append(observer)
+        self._wants_tasks = any(o.wants_tasks for o in self.observers)
+
+    def task_views(self) -> tuple:
+        """The enabled tasks at the latest cycle (targets and references in the world)."""
+        return task_views(self.controller)
 
     def emit(self, event: str) -> None:
         """Raise ``event``; ``event NAME`` conditions see it in the next cycle."""
@@ -234,7 +240,8 @@ class Runner:
         record = CycleRecord(self.cycle, self.time, self._state, self.q.copy(),
                              self.q[self.controller.joint_group.q_indices],
                              np.array(command, dtype=float), solved,
-                             task_views(self.controller), bodies, compute_time, cycle_time)
+                             self.task_views() if self._wants_tasks else (), bodies,
+                             compute_time, cycle_time)
         for observer in self.observers:
             observer.on_cycle(record)
 

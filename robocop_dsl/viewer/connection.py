@@ -10,9 +10,9 @@ import sys
 import time
 import weakref
 
-import umsgpack
 import zmq
 
+from .commands import pack
 from .errors import ViewerConnectionError
 
 DEFAULT_TIMEOUT = 2.0   # [s] for one answer of the server
@@ -108,7 +108,8 @@ class MeshcatConnection:
             timeout: Longest wait for one answer [s].
 
         Raises:
-            ViewerConnectionError: the server did not answer in time.
+            ViewerConnectionError: the address is not a ZeroMQ one, or the server did
+                not answer in time.
         """
         self.zmq_url = zmq_url
         self.timeout = timeout
@@ -132,7 +133,13 @@ class MeshcatConnection:
         self._socket.setsockopt(zmq.RCVTIMEO, milliseconds)
         self._socket.setsockopt(zmq.SNDTIMEO, milliseconds)
         self._socket.setsockopt(zmq.LINGER, 0)
-        self._socket.connect(self.zmq_url)
+        try:
+            self._socket.connect(self.zmq_url)
+        except zmq.ZMQError as error:
+            self.close()
+            raise ViewerConnectionError(
+                f"cannot connect to a Meshcat server at '{self.zmq_url}': {error}",
+                self.zmq_url) from error
 
     def _receive(self) -> bytes:
         try:
@@ -149,10 +156,21 @@ class MeshcatConnection:
             ViewerConnectionError: no acknowledgement within the timeout.
         """
         data = command.lower()
+        self.send_packed(data["type"], data["path"], pack(data))
+
+    def send_packed(self, kind: str, path: str, data: bytes) -> None:
+        """Send one command already packed (see :func:`commands.pack_transform`).
+
+        Args:
+            kind: The command's type, e.g. ``set_transform``.
+            path: The node's full Meshcat path.
+            data: The packed command.
+
+        Raises:
+            ViewerConnectionError: no acknowledgement within the timeout.
+        """
         try:
-            self._socket.send_multipart([data["type"].encode("utf-8"),
-                                         data["path"].encode("utf-8"),
-                                         umsgpack.packb(data)])
+            self._socket.send_multipart([kind.encode("utf-8"), path.encode("utf-8"), data])
         except zmq.ZMQError as error:
             raise ViewerConnectionError(
                 f"cannot send to the Meshcat server at {self.zmq_url}: {error}",

@@ -8,9 +8,8 @@ import threading
 import time
 from typing import Callable
 
-import numpy as np
-
 from ..runtime.records import Observer
+from .commands import pack_transform
 from .connection import DEFAULT_TIMEOUT, MeshcatConnection, MeshcatServer
 from .errors import ViewerConnectionError
 from .options import ViewerOptions
@@ -150,9 +149,11 @@ class LiveViewer(Observer):
         self._scene.load_new(visualizer, record)
         frame = self._scene.frame(record, moved)
         for path, pose in frame.poses.items():
-            if path not in sent or not np.array_equal(sent[path], pose):
-                visualizer[path].set_transform(pose)
-                sent[path] = pose
+            full_path = visualizer[path].path.lower()
+            data = pack_transform(full_path, pose)
+            if sent.get(path) != data:
+                self._connection.send_packed("set_transform", full_path, data)
+                sent[path] = data
         for path, visible in frame.visible.items():
             if shown.get(path) != visible:
                 visualizer[path].set_property("visible", visible)

@@ -112,22 +112,30 @@ class JointKinematicConstraint(Constraint):
         if dt != self._time_step:
             self._prepare(dt)
         # Upper bounds first, then the negated lower bounds: one vector for both sides.
-        distance = self._limits - self._signs * state.q[self._positions]
-        reach = distance * (1.0 / dt)
+        signs, zeros = self._signs, self._zeros
+        distance = signs * state.q[self._positions]
+        np.subtract(self._limits, distance, out=distance)
+        reach = distance * self._rate
         if self._braking is not None:
             two_a, half_step, finite = self._braking
-            braking = np.maximum(np.sqrt(np.maximum(distance, 0.0) * two_a) - half_step, 0.0)
+            braking = np.maximum(distance, zeros, out=distance)
+            np.multiply(braking, two_a, out=braking)
+            np.sqrt(braking, out=braking)
+            np.subtract(braking, half_step, out=braking)
+            np.maximum(braking, zeros, out=braking)
             if finite is not None:
                 braking[~finite] = np.inf
-            reach = np.minimum(reach, braking)
-        speed = self._speed
-        reach = np.minimum(np.maximum(reach, -speed), speed)
-        previous = state.previous_command[self.box_columns]
-        bound = np.minimum(reach, np.concatenate((previous, -previous)) + self._steps)
+            np.minimum(reach, braking, out=reach)
+        np.maximum(reach, self._negative_speed, out=reach)
+        np.minimum(reach, self._speed, out=reach)
+        bound = signs * state.previous_command[self._columns]
+        np.add(bound, self._steps, out=bound)
+        np.minimum(reach, bound, out=bound)
         count = self._count
-        upper, lower = bound[:count], -bound[count:]
-        conflict = lower > upper
-        if conflict.any():
+        upper, lower = bound[:count], np.negative(bound[count:])
+        conflict = np.greater(lower, upper)
+        if np.count_nonzero(conflict):
+            previous = state.previous_command[self.box_columns]
             closest = np.clip(previous, -reach[count:], reach[:count])
             lower[conflict] = upper[conflict] = closest[conflict]
         return lower, upper
@@ -148,9 +156,13 @@ class JointKinematicConstraint(Constraint):
         self._time_step = dt
         self._count = count
         self._positions = np.tile(self._group_positions, 2)
+        self._columns = np.tile(self.box_columns, 2)
         self._signs = np.concatenate((np.ones(count), -np.ones(count)))
+        self._zeros = np.zeros(2 * count)
+        self._rate = np.full(2 * count, 1.0 / dt)
         self._limits = np.concatenate((self._max_position, -self._min_position))
         self._speed = np.tile(self._max_velocity, 2)
+        self._negative_speed = -self._speed
         self._steps = acceleration * dt
         if not finite.any():
             self._braking = None

@@ -39,14 +39,16 @@ class ProxqpSolver(QPSolver):
     def solve(self, problem: QuadraticProgram) -> QPSolution:
         """Solve warm-started; a warm failure is retried once from a cold start (a warm
         start can make ProxQP report a feasible problem infeasible)."""
-        warm = problem.size == self._size
-        solution = self._solve(problem, warm)
+        size = problem.size
+        warm = size == self._size
+        solution = self._solve(problem, size, warm)
         if not solution.found and warm:
-            solution = self._solve(problem, False)
+            solution = self._solve(problem, size, False)
         return solution
 
-    def _solve(self, problem: QuadraticProgram, warm: bool) -> QPSolution:
-        n, n_eq, n_in = size = problem.size
+    def _solve(self, problem: QuadraticProgram, size: tuple[int, int, int],
+               warm: bool) -> QPSolution:
+        n, n_eq, n_in = size
         args = (problem.H, problem.g, problem.A if n_eq else None, problem.b if n_eq else None,
                 problem.C if n_in else None, problem.l if n_in else None,
                 problem.u if n_in else None, problem.lower, problem.upper)
@@ -54,21 +56,24 @@ class ProxqpSolver(QPSolver):
             if warm:
                 qp = self._qp
                 qp.update(*args)
+                qp.solve()
             else:
                 qp = proxsuite.proxqp.dense.QP(n, n_eq, n_in, True)
-                qp.settings.eps_abs = self.eps_abs
-                qp.settings.eps_rel = 0.0
-                qp.settings.max_iter = self.max_iter
-                qp.settings.eps_primal_inf = self.eps_infeasible
+                settings = qp.settings
+                settings.eps_abs = self.eps_abs
+                settings.eps_rel = 0.0
+                settings.max_iter = self.max_iter
+                settings.eps_primal_inf = self.eps_infeasible
                 qp.init(*args)
                 self._qp, self._size = qp, size
-            qp.solve()
-            qp.settings.initial_guess = _WARM
+                qp.solve()
+                settings.initial_guess = _WARM
         except (RuntimeError, ValueError) as error:
             self.reset()
             return QPSolution(False, np.zeros(n), status=f"error: {error}")
-        info = qp.results.info
+        results = qp.results
+        info = results.info
         if info.status == _SOLVED:
-            return QPSolution(True, qp.results.x.copy(), info.iter, "solved")
+            return QPSolution(True, results.x.copy(), info.iter, "solved")
         self.reset()
         return QPSolution(False, np.zeros(n), info.iter, info.status.name)

@@ -88,20 +88,19 @@ class Task(ABC):
     def compute_objective(self, state: ControlState) -> tuple[np.ndarray, np.ndarray]:
         """The Jacobian and the velocity the task asks for this cycle."""
         jacobian = self.compute_jacobian(state)
-        value = self.compute_value(state)
         if self._restart:
-            self._start(state, jacobian, value)
+            self._start(state, jacobian, self.compute_value(state))
         interpolator = self._interpolator
-        goal = self._goal(state, value)
+        goal = self._target if self._constant_goal else self._goal(state)
         if interpolator.passthrough:
-            reference = goal
-            feedforward = goal if self.order else 0.0
-        else:
-            chart = self._chart
-            interpolator.target = chart.to_vector(goal)
-            position, rate = interpolator.step()
-            reference = chart.from_vector(position)
-            feedforward = chart.velocity(position, rate) if self.order == 0 else position
+            self._reference = goal
+            correction = self._feedback.compute(self.compute_error(state, goal))
+            return jacobian, goal + correction if self.order else correction
+        chart = self._chart
+        interpolator.target = chart.to_vector(goal)
+        position, rate = interpolator.step()
+        reference = chart.from_vector(position)
+        feedforward = chart.velocity(position, rate) if self.order == 0 else position
         self._reference = reference
         error = self.compute_error(state, reference)
         return jacobian, feedforward + self._feedback.compute(error)
@@ -117,7 +116,9 @@ class Task(ABC):
             self._interpolator.restart(value, np.zeros(self.dimension))
         self._feedback.reset()
 
-    def _goal(self, state: ControlState, value):
+    def _goal(self, state: ControlState, value=None):
+        """The target's value this cycle; for ``CURRENT``, the value held since the
+        start, or ``value`` (the current one) before any start."""
         target = self._target
         if isinstance(target, Current):
             return value if self._held is None else self._held
@@ -146,6 +147,7 @@ class Task(ABC):
         if not isinstance(value, (Current, BodyTarget)):
             value = self.convert_target(value)
         self._target = value
+        self._constant_goal = not isinstance(value, (Current, BodyTarget))
         self._finite = self._check_finite(value)
         self._restart = True
 

@@ -1,0 +1,161 @@
+"""Cascaded controllers at run time on BAZAR: the arms at 5 ms and the head at 20 ms,
+each in its own thread on its own world copy. Periods, the head tracking the part,
+determinism, actions across threads and a lost head robot."""
+
+import math
+
+import numpy as np
+import pytest
+
+from robocop_dsl.drivers import LoopbackDriver
+from robocop_dsl.runtime import Observer, RunLogger, load_mission, read_events, read_timeseries
+from robocop_dsl.runtime.cascade import PENDING, ControllerStatus, Link, Remote, TaskStatus
+
+from conftest import MISSIONS
+
+ARMS, HEAD = 0.005, 0.02
+RATIO = 4
+"""Arms cycles per head cycle."""
+
+
+class HeadWatch(Observer):
+    """Samples, after every arms cycle, the head's published cycle count and gaze error."""
+
+    def __init__(self, runner):
+        self.link = runner.threads[0].link
+        self.samples = []
+
+    def on_cycle(self, record):
+        status = self.link.status
+        watch = status.tasks.get("watch")
+        self.samples.append((record.cycle, record.time, record.state, status.cycle,
+                             math.degrees(watch.error) if watch else math.nan))
+
+
+def run_cascade(realtime=False, duration=None, **options):
+    mission = load_mission(MISSIONS / "pickup_cascade.mission")
+    runner = mission.runner(realtime=realtime, **options)
+    watch = HeadWatch(runner)
+    runner.add_observer(watch)
+    return runner, runner.run(duration=duration, realtime=realtime), watch
+
+
+@pytest.fixture(scope="module")
+def lockstep_run():
+    return run_cascade()
+
+
+def test_the_cascade_runs_pickup_to_success(lockstep_run):
+    """Faster than real time, the cascaded pickup ends in 'done' with no QP failure."""
+    runner, result, _ = lockstep_run
+    assert (result.outcome, result.final_state) == ("success", "done")
+    assert result.qp_failures == 0
+    assert [t.target for t in result.transitions] == [
+        "approach", "grasp", "lift", "move_to_drop", "release", "return", "done"]
+
+
+def test_each_controller_keeps_its_period_in_lockstep(lockstep_run):
+    """During arms cycle k (time k * 5 ms) the head has run every cycle before that
+    time, ceil(k / 4); over the run, cycles match the periods."""
+    runner, result, watch = lockstep_run
+    head = runner.threads[0]
+    assert [(k, h) for k, _, _, h, _ in watch.samples if h != math.ceil(k / RATIO)] == []
+    assert result.cycles == round(result.mission_time / ARMS)
+    assert abs(head.cycle - result.mission_time / HEAD) <= 1
+
+
+def test_the_head_tracks_the_part(lockstep_run):
+    """Once turned to it (2 s), the camera stays within 5 degrees of the part, also
+    while the arm carries it, and within 0.1 degree while it is still."""
+    _, _, watch = lockstep_run
+    settled = [s for s in watch.samples if s[1] >= 2.0]
+    assert max(s[4] for s in settled) < 5.0
+    carrying = [s[4] for s in settled if s[2] in ("lift", "move_to_drop")]
+    assert len(carrying) > 200 and max(carrying) > 0.5
+    still = [s[4] for s in settled if s[2] == "approach"]
+    assert max(still) < 0.1
+
+
+def test_lockstep_runs_are_deterministic(lockstep_run):
+    """A second run faster than real time interleaves the cycles the same way: same
+    transitions, same head cycle after each arms cycle, same head errors (up to the
+    QP's rounding)."""
+    _, first, first_watch = lockstep_run
+    _, second, second_watch = run_cascade(duration=8.0)
+    assert second.transitions == first.transitions[:len(second.transitions)]
+    first_samples = first_watch.samples[:len(second_watch.samples)]
+    assert [s[:4] for s in second_watch.samples] == [s[:4] for s in first_samples]
+    assert np.allclose([s[4] for s in second_watch.samples], [s[4] for s in first_samples],
+                       atol=1e-6, equal_nan=True)
+
+
+def test_cascaded_controllers_keep_their_periods_in_real_time():
+    """Against the threaded drivers in real time, after every arms cycle the head's cycle
+    count is within one cycle of what its period gives, and over the run too."""
+    runner, result, watch = run_cascade(realtime=True, duration=1.5)
+    head = runner.threads[0]
+    assert result.outcome == "stopped" and result.cycles == 300
+    late = [(k, h) for k, _, _, h, _ in watch.samples if abs(h - k / RATIO) > 1]
+    assert late == []
+    assert abs(head.cycle - 1.5 / HEAD) <= 1
+    assert watch.samples[-1][4] < 1.0
+
+
+def test_losing_the_head_robot_takes_the_failure_path(tmp_path):
+    """The head's robot simulator process dies mid-run: the mission takes its
+    controller.failed path, the fault is in the log and every cycle is recorded, with
+    the head's gaze error."""
+    mission = load_mission(MISSIONS / "pickup_cascade.mission")
+    head = LoopbackDriver(mission.world, "bazar_ptu", launch=True)
+    runner = mission.runner(realtime=True, drivers={"head_controller": head})
+
+    class Kill(Observer):
+        def on_cycle(self, record):
+            if record.cycle == 100:
+                head.simulator.kill()
+
+    runner.add_observer(RunLogger(tmp_path / "log", runner.joint_names))
+    runner.add_observer(Kill())
+    result = runner.run(duration=10, realtime=True)
+    assert (result.outcome, result.final_state) == ("failure", "failed")
+    assert result.transitions[-1].condition == "controller.failed"
+    events = read_events(tmp_path / "log")
+    fault = next(e for e in events if e["kind"] == "fault")
+    assert fault["message"].startswith("head_controller: driver:")
+    assert events[-1]["kind"] == "end" and events[-1]["holding"] is True
+    series = read_timeseries(tmp_path / "log")
+    assert len(series["time"]) == result.cycles
+    assert np.nanmax(np.degrees(series["error.watch"][:100])) > 1.0
+
+
+def test_a_remote_task_is_pending_until_its_controller_applied_the_actions(bazar):
+    """A condition never reads a status older than the last action sent to the task."""
+    link = Link("head_controller", bazar.joint_group("bazar_ptu"), ["arms_controller"])
+    remote = Remote({"watch": "head_controller"}, {"head_controller": link},
+                    "arms_controller")
+    reached = TaskStatus(True, 0.001, 0.001, 0.001)
+    link.publish_status(ControllerStatus(cycle=3, tasks={"watch": reached}))
+    assert remote.status("watch") == reached and not remote.is_local("watch")
+    remote.send("watch", lambda thread: None)
+    assert remote.status("watch") is PENDING
+    assert [a(None) for a in link.take_actions()] == [None]
+    link.publish_status(ControllerStatus(cycle=4, applied=1, tasks={"watch": reached}))
+    assert remote.status("watch") == reached
+
+
+def test_pickup_watches_the_part_on_one_controller():
+    """On sophia.yaml the gaze runs in the single 16-dof controller and tracks the part."""
+    mission = load_mission(MISSIONS / "pickup.mission")
+    runner = mission.runner()
+    errors = []
+
+    class Errors(Observer):
+        def on_cycle(self, record):
+            view = next((t for t in record.tasks if t.name == "watch"), None)
+            if view is not None and record.time >= 2.0:
+                errors.append(np.degrees(view.error))
+
+    runner.add_observer(Errors())
+    result = runner.run(duration=30)
+    assert (result.outcome, result.final_state) == ("success", "done")
+    assert len(errors) > 2000 and max(errors) < 5.0
