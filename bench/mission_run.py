@@ -9,7 +9,11 @@ For each configuration, the same mission runs to its end in this process (best o
   ``compute()``);
 - overhead: median cycle / median compute - 1, the runtime's share per cycle.
 
+With ``--viewer``, it then compares the cycle times of real-time runs headless, with
+the live Meshcat viewer and with the replay recorder (``viewer_overhead.py``).
+
 Usage: python bench/mission_run.py [--mission missions/pickup.mission] [--repeat 3]
+       [--viewer]
 """
 
 from __future__ import annotations
@@ -54,6 +58,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mission", default="missions/pickup.mission")
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--viewer", action="store_true",
+                        help="also compare real-time runs with the live viewer and recorder")
     args = parser.parse_args()
     mission = load_mission(args.mission)
     table = Table(title=f"{mission.name}: headless runs (best of {args.repeat})")
@@ -68,6 +74,11 @@ def main() -> None:
                       f"{row['compute median']:.1f}", f"{row['compute p99']:.1f}",
                       f"{row['overhead'] * 100:.1f}%")
     Console(width=150).print(table)
+    if args.viewer:
+        import viewer_overhead
+
+        viewer_overhead.main(["--realtime", "--repeats", str(args.repeat),
+                              "--mission", args.mission])
 
 
 if __name__ == "__main__":

@@ -111,34 +111,41 @@ def test_dead_server_is_reported_once_and_the_run_goes_on(bazar, records):
     assert "viewer stopped" in reported[0] and "the run goes on" in reported[0]
 
 
-def stalled_server(port, answered):
-    """A ZeroMQ endpoint that gives its web address, then never answers again."""
-    context = zmq.Context.instance()
-    reply = context.socket(zmq.REP)
+def stalling_server(port, stall, done):
+    """A ZeroMQ endpoint that answers like a Meshcat server until ``stall`` is set, then
+    leaves the next request unanswered until ``done`` is set."""
+    reply = zmq.Context.instance().socket(zmq.REP)
     reply.setsockopt(zmq.LINGER, 0)
     reply.bind(f"tcp://127.0.0.1:{port}")
-    reply.recv()
-    reply.send(b"http://127.0.0.1:1/static/")
-    answered.set()
-    return reply
+    while not done.is_set():
+        if not reply.poll(50):
+            continue
+        frames = reply.recv_multipart()
+        if stall.is_set():
+            done.wait()
+            break
+        reply.send(b"http://127.0.0.1:1/static/" if frames == [b"url"] else b"ok")
+    reply.close()
 
 
 def test_stalled_server_never_holds_the_control_thread(bazar, records):
-    """While the publisher waits on a server that does not answer, every cycle is handed
-    over at once; the wait ends in one reported problem."""
+    """While the publisher waits on a server that stopped answering, every cycle is
+    handed over at once; the wait ends in one reported problem."""
     port = free_port()
-    answered = threading.Event()
-    endpoint = []
-    thread = threading.Thread(target=lambda: endpoint.append(stalled_server(port, answered)))
-    thread.start()
-    viewer = LiveViewer(bazar, zmq_url=f"tcp://127.0.0.1:{port}", timeout=2.0)
-    thread.join()
-    for item in records:
-        viewer.on_cycle(item)
+    stall, done = threading.Event(), threading.Event()
+    endpoint = threading.Thread(target=stalling_server, args=(port, stall, done))
+    endpoint.start()
+    try:
+        viewer = LiveViewer(bazar, zmq_url=f"tcp://127.0.0.1:{port}", timeout=2.0)
+        stall.set()
+        for item in records:
+            viewer.on_cycle(item)
+        assert not viewer.sync(SYNC)
+        viewer.close()
+    finally:
+        done.set()
+        endpoint.join()
     assert viewer.published == 0
-    assert not viewer.sync(SYNC)
-    viewer.close()
-    endpoint[0].close()
     assert len(viewer.problems) == 1 and "did not answer within 2 s" in viewer.problems[0]
 
 

@@ -2,6 +2,7 @@
 enabled task's target is there, one frame per viewer period, poses as in the run."""
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from robocop_dsl.runtime import read_timeseries
@@ -42,8 +43,6 @@ def static_pose(commands, path):
 
 def animated_pose(tracks, frame):
     """The 4x4 pose of a node at an animation frame, from its position and quaternion."""
-    import pinocchio as pin
-
     position = dict(tracks[".position"])[frame]
     x, y, z, w = dict(tracks[".quaternion"])[frame]
     pose = np.eye(4)

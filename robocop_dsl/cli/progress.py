@@ -21,7 +21,8 @@ class ProgressDisplay(Observer):
     wants_tasks = False
 
     def __init__(self, mission_name: str, stream=None):
-        self.console = Console(file=stream or sys.stderr)
+        stream = stream or sys.stderr
+        self.console = Console(file=stream, width=None if stream.isatty() else 120)
         self.mission_name = mission_name
         self.live = self.console.is_terminal
         self._status = None

@@ -1,26 +1,43 @@
-"""``robocop-mission run FILE``: run a mission headless (default) or in real time.
+"""``robocop-mission run FILE``: run a mission headless (default) or in real time,
+optionally shown in Meshcat (``--viewer``) and recorded as an HTML replay (``--record``).
 
 Exit codes: 0 success outcome, 1 failure outcome (or ``--duration`` reached first),
-2 invalid mission, 3 run-time fault, 130 interrupted.
+2 invalid mission (or viewer options), 3 run-time fault (or no Meshcat server),
+130 interrupted.
 """
 
 from __future__ import annotations
 
+import argparse
 import sys
+import threading
 
 from ..diagnostics import DiagnosticError, render_all
 
 EXIT_CODES = {"success": 0, "failure": 1, "stopped": 1, "fault": 3, "interrupted": 130}
+VIEWER_SYNC = 5.0   # [s] at most to show the last cycle before waiting or exiting
 
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "run", help="run a mission against the simulated robot",
         description="Check and run a mission. Headless and as fast as the machine goes "
-                    "unless --realtime; prints progress and a summary.")
+                    "unless --realtime or --viewer; prints progress and a summary.")
     parser.add_argument("file", help="the .mission file")
-    parser.add_argument("--realtime", action="store_true",
-                        help="sleep to the control period and report overruns")
+    parser.add_argument("--realtime", action=argparse.BooleanOptionalAction, default=None,
+                        help="sleep to the control period and report overruns "
+                             "(default: on with --viewer, off otherwise)")
+    parser.add_argument("--viewer", action="store_true",
+                        help="show the run in Meshcat: start a server on 127.0.0.1 and "
+                             "print the page's URL")
+    parser.add_argument("--viewer-url", metavar="ZMQ_URL",
+                        help="show the run on the Meshcat server at this ZeroMQ address "
+                             "(implies --viewer)")
+    parser.add_argument("--no-wait", action="store_true",
+                        help="with --viewer, exit when the run ends instead of keeping the "
+                             "page served until Ctrl-C")
+    parser.add_argument("--record", metavar="FILE",
+                        help="write a standalone HTML replay of the run to FILE")
     parser.add_argument("--duration", type=float, metavar="SECONDS",
                         help="stop after this much mission time")
     parser.add_argument("--solver", help="QP solver (overrides the world's controller)")
@@ -42,6 +59,9 @@ def run(args) -> int:
     if (args.campaign is None) != (args.job is None):
         print("robocop-mission run: error: --campaign and --job go together", file=sys.stderr)
         return 2
+    watched = bool(args.viewer or args.viewer_url)
+    if args.realtime is None:
+        args.realtime = watched
     try:
         mission, runner, duration = _prepare(args)
     except DiagnosticError as error:
@@ -49,6 +69,18 @@ def run(args) -> int:
         return 2
     if args.log:
         runner.add_observer(RunLogger(args.log, runner.joint_names))
+    viewer = recorder = None
+    if watched or args.record:
+        from ..viewer import ViewerConnectionError, ViewerError
+
+        try:
+            viewer, recorder = _viewers(args, mission.world, watched)
+        except ViewerError as error:
+            print(f"error: {error}", file=sys.stderr)
+            return 3 if isinstance(error, ViewerConnectionError) else 2
+        for observer in (viewer, recorder):
+            if observer is not None:
+                runner.add_observer(observer)
     display = ProgressDisplay(mission.name)
     runner.add_observer(display)
     result = runner.run(duration=duration, realtime=args.realtime or runner.driver.realtime)
@@ -56,7 +88,43 @@ def run(args) -> int:
     print_summary(result, sys.stdout)
     if args.log:
         print(f"log: {args.log}")
+    if recorder is not None:
+        for problem in recorder.problems:
+            print(f"warning: {problem}", file=sys.stderr)
+        if not recorder.problems:
+            print(f"replay: {recorder.path}")
+    if viewer is not None:
+        _keep_viewer(viewer, wait=not args.no_wait)
     return EXIT_CODES[result.outcome]
+
+
+def _viewers(args, world, watched: bool) -> tuple:
+    """The live viewer and the replay recorder the options ask for (``None`` if not),
+    made before the run. A viewer that fails during the run says so once, on stderr."""
+    from ..viewer import LiveViewer, ReplayRecorder, viewer_options
+
+    options = viewer_options(world)
+    viewer = recorder = None
+    if watched:
+        viewer = LiveViewer(world, zmq_url=args.viewer_url, options=options,
+                            on_problem=lambda message: print(f"warning: {message}",
+                                                             file=sys.stderr))
+        print(f"viewer: {viewer.web_url}")
+    if args.record:
+        recorder = ReplayRecorder(world, args.record, options)
+    return viewer, recorder
+
+
+def _keep_viewer(viewer, wait: bool) -> None:
+    """Show the run's last cycle, then serve the page until Ctrl-C unless ``wait`` is off."""
+    viewer.sync(VIEWER_SYNC)
+    if wait and not viewer.problems:
+        print(f"viewer: {viewer.web_url} (Ctrl-C to quit)")
+        try:
+            threading.Event().wait()
+        except KeyboardInterrupt:
+            pass
+    viewer.close()
 
 
 def _prepare(args) -> tuple:

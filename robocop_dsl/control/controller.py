@@ -233,7 +233,7 @@ class Controller:
             velocity[rows] = task_velocity
             weight[rows] = task_weight
             objectives.append(Objective(task.name, task_jacobian, task_velocity, task_weight))
-        if not math.isfinite(velocity.dot(velocity)):
+        if not math.isfinite(velocity.dot(velocity)):  # one check for every task
             reason = _unbounded_reference(plan.tasks, objectives)
             if reason:
                 return self._refuse(reason, start)
@@ -298,7 +298,8 @@ class Controller:
 
     def _bounds(self, plan: _Plan) -> bool:
         """Write the constraints' bounds and rows into the plan's QPs; ``False`` when
-        the box bounds of several constraints leave no common command."""
+        they leave no common command (box bounds of several constraints that do not
+        intersect, or a row with ``l > u``)."""
         state = self.state
         hierarchy = plan.hierarchy
         lower, upper = hierarchy.lower, hierarchy.upper

@@ -38,12 +38,15 @@ class Objective(NamedTuple):
 
 
 class _Level(NamedTuple):
+    """One level's views of the stacked rows, its buffers, QP and solver."""
+
     priority: int
     tasks: list[int]
     names: tuple[str, ...]
     jacobian: np.ndarray
     velocity: np.ndarray
     weight: np.ndarray
+    weighted_rows: np.ndarray
     weighted: np.ndarray
     regularisation: np.ndarray
     program: QuadraticProgram
@@ -96,13 +99,16 @@ class Hierarchy:
             program = QuadraticProgram(hessian, np.zeros(dofs), self.jacobian[:start],
                                        np.zeros(start), self.C, self.l, self.u, self.lower,
                                        self.upper)
+            weighted_rows = np.zeros((end - start, dofs))
             self._levels.append(_Level(
                 priority, list(tasks), tuple(names[index] for index in tasks),
-                self.jacobian[start:end], self.velocity[start:end], self.weight[start:end],
-                np.zeros((dofs, end - start), order="F"), regularisation, program, solver))
+                self.jacobian[start:end], self.velocity[start:end],
+                self.weight[start:end, None], weighted_rows, weighted_rows.T, regularisation,
+                program, solver))
             start = end
         self.problems = [level.program for level in self._levels]
         """The QP of each level, overwritten by every cycle."""
+        self._not_run = [(False, "not run")] * len(self._levels)
 
     def task_rows(self, index: int) -> slice:
         """The rows of task ``index`` in :attr:`jacobian`, :attr:`velocity`, :attr:`weight`."""
@@ -129,7 +135,7 @@ class Hierarchy:
             program = level.program
             if level.tasks:
                 weighted = level.weighted
-                np.multiply(level.jacobian.T, level.weight, out=weighted)
+                np.multiply(level.jacobian, level.weight, out=level.weighted_rows)
                 weighted.dot(level.jacobian, out=program.H)
                 np.add(program.H, level.regularisation, out=program.H)
                 weighted.dot(level.velocity, out=program.g)
@@ -148,9 +154,8 @@ class Hierarchy:
         problems = self.problems[:len(statuses)]
         if command is None:
             return None, (), problems
-        results = []
-        for index, level in enumerate(self._levels):
-            solved, status = statuses[index] if index < len(statuses) else (False, "not run")
-            results.append(LevelResult(level.priority, level.names, solved, status,
-                                       tuple([objectives[i] for i in level.tasks]), command))
-        return command, tuple(results), problems
+        statuses += self._not_run[len(statuses):]
+        return command, tuple([
+            LevelResult(level.priority, level.names, solved, status,
+                        tuple([objectives[index] for index in level.tasks]), command)
+            for level, (solved, status) in zip(self._levels, statuses)]), problems

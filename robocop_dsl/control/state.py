@@ -106,6 +106,9 @@ class ControlState:
 
 def _as_slice(indices: np.ndarray):
     """``indices`` as a slice when they are consecutive (views instead of copies)."""
-    if len(indices) and np.array_equal(indices, np.arange(indices[0], indices[0] + len(indices))):
-        return slice(int(indices[0]), int(indices[0]) + len(indices))
+    if len(indices) == 0:
+        return indices
+    first = int(indices[0])
+    if np.array_equal(indices, np.arange(first, first + len(indices))):
+        return slice(first, first + len(indices))
     return indices

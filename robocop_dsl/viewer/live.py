@@ -42,6 +42,9 @@ class LiveViewer(Observer):
                  on_problem: Callable[[str], None] | None = None):
         """Start (or connect to) a server, send the scene and start publishing.
 
+        Returns once the publisher thread has sent the scene (or failed to), so that a
+        run started next does not share the processor with that burst.
+
         Args:
             world: The :class:`~robocop_dsl.world.World` being run.
             zmq_url: An existing server's ZeroMQ address; default: start a server on
@@ -74,9 +77,11 @@ class LiveViewer(Observer):
         self._stopped = False
         self._wake = threading.Event()
         self._progress = threading.Condition()
+        self._loaded = threading.Event()
         self._thread = threading.Thread(target=self._publish, name="meshcat-viewer",
                                         daemon=True)
         self._thread.start()
+        self._loaded.wait()
 
     def on_cycle(self, record) -> None:
         self._latest = (record, self._moved.update(record))
@@ -121,6 +126,7 @@ class LiveViewer(Observer):
         visualizer = meshcat.Visualizer(window=self._connection)
         try:
             self._scene.load(visualizer)
+            self._loaded.set()
             sent: dict = {}
             shown: dict = {}
             deadline = time.monotonic()
@@ -140,6 +146,7 @@ class LiveViewer(Observer):
             self._report(f"viewer stopped: {type(error).__name__}: {error}; "
                          "the run goes on without it")
         finally:
+            self._loaded.set()
             with self._progress:
                 self._stopped = True
                 self._progress.notify_all()

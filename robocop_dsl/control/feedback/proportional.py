@@ -20,6 +20,7 @@ class ProportionalFeedback(FeedbackLoop):
     def __init__(self, gain=1.0):
         super().__init__()
         self._gain = self._checked(gain, np.size(gain))
+        self._broadcast()
 
     def _checked(self, value, size: int):
         array = vector_parameter(self.kind, "gain", value, size, minimum=0.0)
@@ -28,9 +29,17 @@ class ProportionalFeedback(FeedbackLoop):
     def validate(self) -> None:
         if np.ndim(self._gain) != 0:
             self._gain = self._checked(self._gain, self.dimension)
+        self._broadcast()
+
+    def _broadcast(self) -> None:
+        """One gain per axis once the dimension is known: multiplying two arrays is
+        cheaper than multiplying an array by a Python float."""
+        gain = self._gain
+        scalar = np.ndim(gain) == 0 and self.dimension
+        self._gains = np.full(self.dimension, gain) if scalar else gain
 
     def compute(self, error: np.ndarray) -> np.ndarray:
-        return self._gain * error
+        return self._gains * error
 
     @property
     def gain(self):
@@ -40,6 +49,7 @@ class ProportionalFeedback(FeedbackLoop):
     def gain(self, value) -> None:
         size = 1 if np.ndim(value) == 0 else (self.dimension or np.size(value))
         self._gain = self._checked(value, size)
+        self._broadcast()
 
     def parameters(self) -> dict:
         return {"gain": self._gain}

@@ -10,13 +10,15 @@ import numpy as np
 from ..exceptions import InvalidParameter
 
 
-@dataclass(slots=True)
+@dataclass(frozen=True, slots=True)
 class QuadraticProgram:
     """``min 1/2 x'Hx + g'x  s.t.  Ax = b,  l <= Cx <= u,  lower <= x <= upper``.
 
     ``x`` is the joint-velocity command of the controlled group. Bounds may be
-    infinite. The controller builds consistent shapes; :meth:`validate` checks a
-    program built by hand.
+    infinite. The arrays are fixed at construction; the controller builds consistent
+    shapes and rewrites the arrays' values every cycle, so a solver may keep what it
+    derived from a program it already saw. :meth:`validate` checks a program built
+    by hand.
     """
 
     H: np.ndarray

@@ -14,6 +14,9 @@ _WARM = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
 class ProxqpSolver(QPSolver):
     """Keeps one ``proxsuite.proxqp.dense.QP``; rebuilds it only when sizes change.
 
+    Solving the same :class:`QuadraticProgram` again (the controller rewrites its
+    arrays every cycle) reuses the arguments prepared for it the first time.
+
     Args:
         eps_abs: Absolute tolerance on primal and dual residuals.
         max_iter: Iteration limit (reaching it is a failure).
@@ -31,6 +34,9 @@ class ProxqpSolver(QPSolver):
         self.eps_infeasible = eps_infeasible
         self._qp = None
         self._size: tuple[int, int, int] | None = None
+        self._problem: QuadraticProgram | None = None
+        self._problem_size = (0, 0, 0)
+        self._arguments: tuple = ()
 
     def reset(self) -> None:
         self._qp = None
@@ -39,23 +45,22 @@ class ProxqpSolver(QPSolver):
     def solve(self, problem: QuadraticProgram) -> QPSolution:
         """Solve warm-started; a warm failure is retried once from a cold start (a warm
         start can make ProxQP report a feasible problem infeasible)."""
-        size = problem.size
+        if problem is not self._problem:
+            self._problem, self._problem_size = problem, problem.size
+            self._arguments = _arguments(problem)
+        size = self._problem_size
         warm = size == self._size
-        solution = self._solve(problem, size, warm)
+        solution = self._solve(size, warm)
         if not solution.found and warm:
-            solution = self._solve(problem, size, False)
+            solution = self._solve(size, False)
         return solution
 
-    def _solve(self, problem: QuadraticProgram, size: tuple[int, int, int],
-               warm: bool) -> QPSolution:
+    def _solve(self, size: tuple[int, int, int], warm: bool) -> QPSolution:
         n, n_eq, n_in = size
-        args = (problem.H, problem.g, problem.A if n_eq else None, problem.b if n_eq else None,
-                problem.C if n_in else None, problem.l if n_in else None,
-                problem.u if n_in else None, problem.lower, problem.upper)
         try:
             if warm:
                 qp = self._qp
-                qp.update(*args)
+                qp.update(*self._arguments)
                 qp.solve()
             else:
                 qp = proxsuite.proxqp.dense.QP(n, n_eq, n_in, True)
@@ -64,7 +69,7 @@ class ProxqpSolver(QPSolver):
                 settings.eps_rel = 0.0
                 settings.max_iter = self.max_iter
                 settings.eps_primal_inf = self.eps_infeasible
-                qp.init(*args)
+                qp.init(*self._arguments)
                 self._qp, self._size = qp, size
                 qp.solve()
                 settings.initial_guess = _WARM
@@ -77,3 +82,12 @@ class ProxqpSolver(QPSolver):
             return QPSolution(True, results.x.copy(), info.iter, "solved")
         self.reset()
         return QPSolution(False, np.zeros(n), info.iter, info.status.name)
+
+
+def _arguments(problem: QuadraticProgram) -> tuple:
+    """``problem`` as the arguments of ``QP.init`` / ``QP.update`` (``None`` for the
+    empty equality and inequality blocks)."""
+    _, n_eq, n_in = problem.size
+    return (problem.H, problem.g, problem.A if n_eq else None, problem.b if n_eq else None,
+            problem.C if n_in else None, problem.l if n_in else None,
+            problem.u if n_in else None, problem.lower, problem.upper)
