@@ -11,8 +11,9 @@ import pytest
 
 from robocop_dsl.drivers import DriverFault, LoopbackDriver, SimulatorProcess
 
+from driver_loops import MAX_POLLS, control, read_until
+
 GROUP = "bazar_upper_joints"
-MAX_POLLS = 2000
 
 
 @pytest.fixture
@@ -20,24 +21,6 @@ def simulator(bazar):
     """A fresh robot simulator process for the BAZAR upper body."""
     with SimulatorProcess(bazar.path, GROUP, command_timeout=0.05) as process:
         yield process
-
-
-def control(driver, velocity, cycles: int, period: float = 0.005) -> None:
-    """Run a controller loop: read, write ``velocity``, wait one period."""
-    for _ in range(cycles):
-        driver.read()
-        driver.write(velocity)
-        time.sleep(period)
-
-
-def read_until(driver, predicate):
-    """Read until ``predicate(driver.last_state)`` holds; return the configuration."""
-    for _ in range(MAX_POLLS):
-        q, _ = driver.read()
-        if predicate(driver.last_state):
-            return q
-        time.sleep(0.002)
-    raise AssertionError("the robot never reached the expected state")
 
 
 def test_handshake_and_first_state(bazar, simulator):

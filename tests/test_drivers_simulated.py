@@ -13,8 +13,9 @@ from robocop_dsl.drivers import (DriverFault, ThreadedDriver, ThreadedSimulatedD
                                  ThreadOwnershipError)
 from robocop_dsl.world import load_world
 
+from driver_loops import MAX_POLLS, control, read_until
+
 GROUP = "bazar_upper_joints"
-MAX_POLLS = 2000
 
 
 @pytest.fixture(scope="module")
@@ -34,24 +35,6 @@ def wheel_world(tmp_path_factory):
           both: [world_to_wheel_body, world_to_slider_body]
     """))
     return load_world(path)
-
-
-def control(driver, velocity, cycles: int, period: float = 0.005) -> None:
-    """Run a controller loop: read, write ``velocity``, wait one period."""
-    for _ in range(cycles):
-        driver.read()
-        driver.write(velocity)
-        time.sleep(period)
-
-
-def read_until(driver, predicate):
-    """Read until ``predicate(driver.last_state)`` holds; return the configuration."""
-    for _ in range(MAX_POLLS):
-        q, _ = driver.read()
-        if predicate(driver.last_state):
-            return q
-        time.sleep(0.002)
-    raise AssertionError("the driver never reached the expected state")
 
 
 def test_life_cycle(bazar):

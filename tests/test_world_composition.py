@@ -1,17 +1,10 @@
 """Namespaces through nested includes, path resolution order, groups and processors."""
 
-import textwrap
-
 import numpy as np
 
 from robocop_dsl.world import load_world
 
-
-def write(folder, name, text):
-    path = folder / name
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(textwrap.dedent(text).lstrip("\n"))
-    return path
+from conftest import write
 
 
 def test_namespaces_nest_through_includes(tmp_path):

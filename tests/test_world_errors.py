@@ -1,18 +1,11 @@
 """Every world-file error is one located diagnostic: file, line, message, hint."""
 
-import textwrap
-
 import pytest
 
 from robocop_dsl.diagnostics import DiagnosticError
 from robocop_dsl.world import load_world
 
-
-def write(folder, name, text):
-    path = folder / name
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(textwrap.dedent(text).lstrip("\n"))
-    return path
+from conftest import write
 
 
 def errors(path):
