@@ -11,11 +11,13 @@ import numpy as np
 class TaskView:
     """An enabled task as drawn and logged.
 
-    ``kind`` is ``pose``, ``position``, ``orientation``, ``joint`` or ``velocity``.
-    ``target`` and ``reference`` (the interpolated target) are 4x4 homogeneous
-    matrices in the world frame for ``pose`` and ``orientation``, 3-vectors [m] for
-    ``position``, joint vectors [rad or m] for ``joint`` and velocity vectors for
-    ``velocity``. ``error`` is the norm of the task error [m or rad].
+    ``kind`` is ``pose``, ``position``, ``orientation``, ``joint``, ``velocity`` or
+    ``gaze``. ``target`` and ``reference`` (the interpolated target) are 4x4
+    homogeneous matrices in the world frame for ``pose`` and ``orientation``, 3-vectors
+    [m] for ``position``, joint vectors [rad or m] for ``joint`` and velocity vectors for
+    ``velocity``; a ``gaze`` task's target is the watched pose (4x4) and its reference
+    the 2-vector of the direction's components across the optical axis. ``error`` is
+    the norm of the task error [m or rad].
     """
 
     name: str
