@@ -39,6 +39,7 @@ class Kinematics:
         self.stamp = 0
         self._poses: dict[int, pin.SE3] = {}
         self._jacobians: dict[int, np.ndarray] = {}
+        self._frame_ids: dict[str, int] = {}
 
     def update(self, q: np.ndarray) -> bool:
         """Make ``q`` (nq float array) the current state; ``False`` if it already was."""
@@ -55,9 +56,12 @@ class Kinematics:
 
     def frame_id(self, body: str) -> int:
         """Pinocchio frame id of ``body``; raises :class:`UnknownName` if absent."""
-        if not self.world.has_body(body):
-            raise UnknownName("body", body, self.world.body_names())
-        return self.world.body_frame_id(body)
+        frame = self._frame_ids.get(body)
+        if frame is None:
+            if not self.world.has_body(body):
+                raise UnknownName("body", body, self.world.body_names())
+            frame = self._frame_ids[body] = self.world.body_frame_id(body)
+        return frame
 
     def pose(self, frame_id: int) -> pin.SE3:
         """Pose of a frame in the world at the current state (cached, do not modify)."""
