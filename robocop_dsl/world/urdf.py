@@ -179,13 +179,3 @@ def _mesh_line(text: str, uri: str) -> int:
         if uri in line:
             return number
     return 1
-
-
-def error_at(diagnostics: list, urdf: UrdfModel, kind: str, name: str, code: str,
-             message: str, hint: str | None = None) -> None:
-    """Append a diagnostic located at the element ``kind`` named ``name`` of ``urdf``."""
-    table = urdf.link_lines if kind == "link" else urdf.joint_lines
-    line = table.get(name, 1)
-    source = SourceFile.read(urdf.path)
-    diagnostics.append(source.error(code, message, Span.point(line), hint))
-
