@@ -7,7 +7,11 @@ For each configuration, the same mission runs to its end in this process (best o
 - cycle and compute medians and p99 [us]: a whole cycle (driver, kinematics, state
   machine, QP, observers) and the controller's work alone (forward kinematics and
   ``compute()``);
-- overhead: median cycle / median compute - 1, the runtime's share per cycle.
+- overhead: median cycle / median compute - 1, the runtime's share per cycle;
+- log write [ms]: the run log's work after the last cycle (the task views it computes
+  then, and the Parquet file).
+
+Below the table: what the run log adds to the median cycle, against no observer.
 
 With ``--viewer``, it then compares the cycle times of real-time runs headless, with
 the live Meshcat viewer and with the replay recorder (``viewer_overhead.py``).
@@ -29,29 +33,42 @@ from rich.table import Table
 from robocop_dsl.runtime import RunLogger, load_mission
 
 
+class TimedLogger(RunLogger):
+    """The run log, timing its work when the run stops."""
+
+    write_time = 0.0
+
+    def on_stop(self, result) -> None:
+        start = time.perf_counter()
+        super().on_stop(result)
+        self.write_time = time.perf_counter() - start
+
+
 def run_once(mission, with_log: bool):
     runner = mission.runner()
+    logger = None
     if with_log:
-        runner.add_observer(RunLogger(tempfile.mkdtemp(), runner.joint_names))
+        logger = TimedLogger(tempfile.mkdtemp(), runner.joint_names)
+        runner.add_observer(logger)
     start = time.perf_counter()
     result = runner.run()
     wall = time.perf_counter() - start
-    return result, wall
+    return result, wall, logger.write_time if logger else 0.0
 
 
 def measure(mission, with_log: bool, repeat: int) -> dict:
     best = None
     for _ in range(repeat):
-        result, wall = run_once(mission, with_log)
-        if best is None or wall < best[1]:
-            best = (result, wall)
-    result, wall = best
+        run = run_once(mission, with_log)
+        if best is None or run[1] < best[1]:
+            best = run
+    result, wall, write = best
     cycles, compute = result.cycle_times * 1e6, result.compute_times * 1e6
     return {"outcome": result.outcome, "speed-up": result.mission_time / wall,
             "cycle median": np.median(cycles), "cycle p99": np.percentile(cycles, 99),
             "compute median": np.median(compute), "compute p99": np.percentile(compute, 99),
             "overhead": np.median(cycles) / np.median(compute) - 1.0,
-            "cycles": result.cycles}
+            "cycles": result.cycles, "write": write}
 
 
 def main() -> None:
@@ -64,16 +81,21 @@ def main() -> None:
     mission = load_mission(args.mission)
     table = Table(title=f"{mission.name}: headless runs (best of {args.repeat})")
     columns = ("run", "outcome", "cycles", "speed-up", "cycle median us", "cycle p99 us",
-               "compute median us", "compute p99 us", "overhead")
+               "compute median us", "compute p99 us", "overhead", "log write ms")
     for column in columns:
         table.add_column(column, justify="right")
+    rows = {}
     for label, with_log in (("no observer", False), ("with --log", True)):
-        row = measure(mission, with_log, args.repeat)
+        row = rows[label] = measure(mission, with_log, args.repeat)
         table.add_row(label, row["outcome"], str(row["cycles"]), f"{row['speed-up']:.1f}x",
                       f"{row['cycle median']:.1f}", f"{row['cycle p99']:.1f}",
                       f"{row['compute median']:.1f}", f"{row['compute p99']:.1f}",
-                      f"{row['overhead'] * 100:.1f}%")
-    Console(width=150).print(table)
+                      f"{row['overhead'] * 100:.1f}%", f"{row['write'] * 1e3:.0f}")
+    console = Console(width=160)
+    console.print(table)
+    bare, logged = rows["no observer"]["cycle median"], rows["with --log"]["cycle median"]
+    console.print(f"The run log adds {logged - bare:.1f} us to the median cycle "
+                  f"({(logged / bare - 1) * 100:.1f}% of the cycle without observer).")
     if args.viewer:
         import viewer_overhead
 

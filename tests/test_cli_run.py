@@ -1,6 +1,5 @@
 """``robocop-mission run`` as a user calls it: exit codes, summary, log, Ctrl-C."""
 
-import os
 import signal
 import subprocess
 import sys

@@ -3,7 +3,6 @@
 import textwrap
 
 import numpy as np
-import pytest
 
 from robocop_dsl.world import load_world
 
@@ -49,7 +48,7 @@ def test_talos_with_a_floating_base(tmp_path):
           - path: {ROBOTS}/talos_data/robots/talos_reduced.urdf
             joint: {{type: floating}}
     """)
-    base = world.joint(f"world_to_base_link")
+    base = world.joint("world_to_base_link")
     assert (base.type, base.dofs) == ("floating", 6)
     assert world.model.nq == world.model.nv + 1
     assert world.has_body("gripper_left_base_link")

@@ -22,7 +22,7 @@ from .solvers import QPSolver, QuadraticProgram, available_solvers, make_solver
 from .spatial import CURRENT, BodyTarget
 from .state import ControlState
 from .tasks import (TASKS, BodyOrientationTask, BodyPoseTask, BodyPositionTask, BodyVelocityTask,
-                    JointPositionTask, JointVelocityTask, Task)
+                    JointPositionTask, JointVelocityTask, Task, TaskSample)
 
 __all__ = [
     "BodyOrientationTask", "BodyPoseTask", "BodyPositionTask", "BodyTarget",
@@ -33,6 +33,6 @@ __all__ = [
     "JointKinematicConstraint", "JointPositionTask", "JointVelocityTask", "Kinematics",
     "LevelResult", "LinearInterpolator", "NoInterpolator", "OTGInterpolator", "PIDFeedback",
     "ProportionalFeedback", "QPSolver", "QuadraticProgram", "QuinticInterpolator", "TASKS",
-    "Task", "Timings", "UnknownKind", "UnknownName", "UnknownSolver", "available_solvers",
+    "Task", "TaskSample", "Timings", "UnknownKind", "UnknownName", "UnknownSolver", "available_solvers",
     "make_feedback_loop", "make_interpolator", "make_solver",
 ]

@@ -49,8 +49,8 @@ class Kinematics:
         self._key = key
         self.q = np.array(q, dtype=float)
         self.stamp += 1
-        self._poses.clear()
-        self._jacobians.clear()
+        self._poses = {}
+        self._jacobians = {}
         pin.computeJointJacobians(self.model, self.data, self.q)
         return True
 
@@ -70,6 +70,12 @@ class Kinematics:
             pose = pin.updateFramePlacement(self.model, self.data, frame_id)
             self._poses[frame_id] = pose
         return pose
+
+    def poses(self) -> dict[int, pin.SE3]:
+        """The world poses computed so far at the current state, by frame id: a new
+        mapping per state, so one kept for later keeps that state's poses (do not
+        modify)."""
+        return self._poses
 
     def jacobian(self, frame_id: int) -> np.ndarray:
         """6 x nv ``LOCAL_WORLD_ALIGNED`` Jacobian of a frame (cached, do not modify)."""

@@ -31,7 +31,7 @@ import numpy as np
 from ..diagnostics import RobocopError
 from ..drivers import AsyncWorldWriter
 from .runner import Runner
-from .views import task_views
+from .views import TaskViews, task_views
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,7 @@ class ControllerStatus:
         message: Why the last failure happened.
         fault: Why the thread stopped controlling (driver lost...), or ``None``.
         tasks: :class:`TaskStatus` by task name.
-        views: The :class:`~robocop_dsl.runtime.records.TaskView` of its enabled tasks,
+        views: The :class:`~robocop_dsl.runtime.views.TaskViews` of its enabled tasks,
             for observers.
     """
 
@@ -74,7 +74,7 @@ class ControllerStatus:
     message: str = ""
     fault: str | None = None
     tasks: dict = field(default_factory=dict)
-    views: tuple = ()
+    views: TaskViews = TaskViews(())
 
 
 class Link:
@@ -376,10 +376,12 @@ class CascadeRunner(Runner):
         super().detach(body)
         self.remote.broadcast(lambda thread: thread.kinematics.place(body, "world", pose))
 
-    def task_views(self) -> tuple:
+    def task_views(self) -> TaskViews:
         """The enabled tasks of every controller, the others' as of their last cycle."""
-        return super().task_views() + tuple(view for thread in self.threads
-                                            for view in thread.link.status.views)
+        views = super().task_views()
+        for thread in self.threads:
+            views = views + thread.link.status.views
+        return views
 
     def _read(self) -> None:
         super()._read()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -28,12 +29,14 @@ class TaskView:
     reference: np.ndarray
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class CycleRecord:
-    """One control cycle, as seen after the command was written (copies, safe to keep).
+    """One control cycle, as seen after the command was written (copies, safe to keep;
+    one record is shared by every observer: read it, never modify it).
 
     ``q`` is the whole world's configuration (pinocchio ``nq``); ``positions`` [rad or
     m] and ``command`` [rad/s or m/s] are the controlled group's, in its joint order.
+    ``tasks`` is a sequence of :class:`TaskView`, computed when first read.
     ``body_poses`` gives the 4x4 world pose of environment bodies moved by ``attach``.
     Times are seconds.
     """
@@ -45,7 +48,7 @@ class CycleRecord:
     positions: np.ndarray
     command: np.ndarray
     solved: bool
-    tasks: tuple = ()
+    tasks: Sequence = ()
     body_poses: dict = field(default_factory=dict)
     compute_time: float = 0.0
     cycle_time: float = 0.0
@@ -68,8 +71,8 @@ class Event:
 class Observer:
     """Watches a run without changing it; every hook is optional.
 
-    ``wants_tasks``: whether ``on_cycle`` reads ``record.tasks``; the runner builds the
-    task views (the costly part of a record) only when an observer wants them.
+    ``wants_tasks``: whether ``on_cycle`` reads ``record.tasks``; the runner captures
+    the tasks only when an observer wants them.
     """
 
     wants_tasks = True

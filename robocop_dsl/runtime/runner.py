@@ -22,7 +22,7 @@ from ..diagnostics import RobocopError
 from .program import Program
 from .records import CycleRecord, Event
 from .result import RunResult, TransitionRecord
-from .views import task_views
+from .views import TaskViews, task_views
 
 
 class Runner:
@@ -90,7 +90,7 @@ class Runner:
         self.observers.append(observer)
         self._wants_tasks = any(o.wants_tasks for o in self.observers)
 
-    def task_views(self) -> tuple:
+    def task_views(self) -> TaskViews:
         """The enabled tasks at the latest cycle (targets and references in the world)."""
         return task_views(self.controller)
 

@@ -1,7 +1,16 @@
 """Snapshots of the enabled tasks for observers (viewer, log): targets and references
-in the world frame."""
+in the world frame.
+
+In the loop, :func:`task_views` only keeps references: each enabled task's
+:class:`~robocop_dsl.control.TaskSample` (what the controller computed for it that
+cycle), its target, and the mapping of world poses computed at that state. The error
+norms and the world-frame values are computed when an observer first reads the views,
+which observers that keep records (the run log) do after the run.
+"""
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -13,43 +22,93 @@ _KINDS = {"joint_position": "joint", "joint_velocity": "velocity", "body_velocit
           "body_position": "position", "body_orientation": "orientation", "body_pose": "pose"}
 
 
-def _in_world(task, value) -> np.ndarray:
-    """A task value (pose, rotation, position or vector) as drawn in the world frame."""
+class TaskViews(Sequence):
+    """The :class:`TaskView` of each enabled task of one cycle, computed on first read
+    (from any thread)."""
+
+    __slots__ = ("_captures", "_views")
+
+    def __init__(self, captures: tuple):
+        self._captures = captures
+        self._views = None
+
+    def _resolved(self) -> tuple:
+        views = self._views
+        if views is None:
+            views = self._views = tuple(_resolve(*capture) for capture in self._captures)
+        return views
+
+    def __add__(self, other: TaskViews) -> TaskViews:
+        return TaskViews(self._captures + other._captures)
+
+    def __getitem__(self, index):
+        return self._resolved()[index]
+
+    def __len__(self) -> int:
+        return len(self._captures)
+
+    def __iter__(self):
+        return iter(self._resolved())
+
+    def __repr__(self) -> str:
+        return f"TaskViews({list(self._resolved())!r})"
+
+
+def task_views(controller) -> TaskViews:
+    """The enabled tasks of ``controller`` at its latest state."""
+    poses = controller.kinematics.poses()
+    return TaskViews(tuple([(task, task.sample(), task.target, poses)
+                            for task in controller.tasks() if task.enabled]))
+
+
+def _resolve(task, sample, target, poses: dict) -> TaskView:
+    """A task's view from what was captured in its cycle."""
+    kind = _KINDS.get(task.kind, task.kind)
+    body = getattr(task, "body", None)
+    if sample.value is None:
+        return TaskView(task.name, kind, body, float("nan"), np.zeros(0), np.zeros(0))
+    reference_id = getattr(task, "reference_id", 0)
+    frame = poses[reference_id] if reference_id else None
+    if task.kind == "gaze":
+        pose = _relative(poses[task.body_id], frame)
+        watched = _watched(task, target, poses, frame)
+        error = task.angle_at(pose, watched)
+        shown = np.zeros(0) if watched is None else _in_world(task, watched, frame, None)
+        return TaskView(task.name, kind, body, error, shown,
+                        _in_world(task, sample.reference, frame, None))
+    body_pose = poses[task.body_id] if task.kind == "body_orientation" else None
+    return TaskView(task.name, kind, body, task.error_norm(sample.value, sample.goal),
+                    _in_world(task, sample.goal, frame, body_pose),
+                    _in_world(task, sample.reference, frame, body_pose))
+
+
+def _relative(pose: pin.SE3, frame: pin.SE3 | None) -> pin.SE3:
+    return pose if frame is None else frame.actInv(pose)
+
+
+def _watched(task, target, poses: dict, frame) -> pin.SE3 | None:
+    """The pose a gaze task watched, in its reference frame."""
+    if target is None:
+        return None
+    if isinstance(target, BodyTarget):
+        return target.apply(_relative(poses[task.state.body(target.body)], frame))
+    return pin.SE3(np.eye(3), np.asarray(target, dtype=float))
+
+
+def _in_world(task, value, frame: pin.SE3 | None, body: pin.SE3 | None) -> np.ndarray:
+    """A task value (pose, rotation, position or vector) as drawn in the world frame;
+    ``frame`` is the reference body's world pose (``None``: the world) and ``body`` the
+    controlled body's world pose (where an orientation is drawn)."""
     if value is None:
         return np.zeros(0)
-    kinematics = task.state.kinematics
-    reference = getattr(task, "reference_id", 0)
-    frame = kinematics.pose(reference) if reference else None
     if isinstance(value, pin.SE3):
         return (frame * value if frame is not None else value).homogeneous
     value = np.asarray(value, dtype=float)
     if task.kind == "body_orientation":
         pose = np.eye(4)
         pose[:3, :3] = value if frame is None else frame.rotation @ value
-        pose[:3, 3] = kinematics.pose(task.body_id).translation
+        pose[:3, 3] = body.translation
         return pose
     if task.kind == "body_position" and frame is not None:
         return frame.act(value)
     return value.copy()
-
-
-def _target_value(task):
-    target = task.target
-    if isinstance(target, BodyTarget):
-        return task.value_from_body(task.state, target)
-    if not hasattr(target, "shape") and not isinstance(target, pin.SE3):
-        return task.reference_value
-    return target
-
-
-def task_views(controller) -> tuple:
-    """One :class:`TaskView` per enabled task of ``controller``."""
-    views = []
-    for task in controller.tasks():
-        if not task.enabled:
-            continue
-        views.append(TaskView(task.name, _KINDS.get(task.kind, task.kind),
-                              getattr(task, "body", None), task.error,
-                              _in_world(task, _target_value(task)),
-                              _in_world(task, task.reference_value)))
-    return tuple(views)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .base import Task
+from .base import Task, TaskSample
 from .body import BodyTask
 from .body_orientation import BodyOrientationTask
 from .body_pose import BodyPoseTask
@@ -20,4 +20,5 @@ TASKS: dict[str, type[Task]] = {
 __all__ = [
     "BodyOrientationTask", "BodyPoseTask", "BodyPositionTask", "BodyTask",
     "BodyVelocityTask", "GazeTask", "JointPositionTask", "JointVelocityTask", "TASKS", "Task",
+    "TaskSample",
 ]

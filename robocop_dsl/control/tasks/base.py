@@ -1,16 +1,18 @@
 """Abstract task: a desired motion of a body or joint group, as a QP objective.
 
 A subclass implements three hooks, :meth:`Task.compute_value` (where the task is
-now), :meth:`Task.compute_error` (from now to a reference, in the task's velocity
+now), :meth:`Task.compute_error` (from a value to a reference, in the task's velocity
 coordinates) and :meth:`Task.compute_jacobian` (from the command to those
 velocities). :meth:`Task.compute_objective` drives them and must not be overridden: it
 steps the interpolator towards the target, adds the interpolator's velocity and the
-feedback loop's correction, and returns the Jacobian and the velocity to track.
+feedback loop's correction, and returns the Jacobian and the velocity to track. It
+keeps what it computed as the task's :class:`TaskSample` of that state, for observers.
 """
 
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from typing import NamedTuple
 
 import numpy as np
 
@@ -20,6 +22,18 @@ from ..interpolators import Interpolator, make_interpolator
 from ..parameters import integer_parameter, vector_parameter
 from ..spatial import CURRENT, BodyTarget, Current, VectorChart
 from ..state import ControlState
+
+
+class TaskSample(NamedTuple):
+    """A task at one kinematics state (``stamp``), in the task's own terms: ``value``
+    (where it is), ``goal`` (the target's value) and ``reference`` (the interpolated
+    target of the last cycle, ``None`` before one). ``value`` and ``goal`` are ``None``
+    before any state. The objects are shared with the controller: read, never modify."""
+
+    stamp: int
+    value: object
+    goal: object
+    reference: object
 
 
 class Task(ABC):
@@ -54,6 +68,7 @@ class Task(ABC):
         self._held = None
         self._chart = VectorChart()
         self._reference = None
+        self._sample: tuple | None = None
         self._interpolator: Interpolator
         self._feedback: FeedbackLoop
         self.set_interpolator(interpolator)
@@ -70,8 +85,9 @@ class Task(ABC):
         """Hook: the task's current value (vector, rotation matrix or ``pin.SE3``)."""
 
     @abstractmethod
-    def compute_error(self, state: ControlState, reference) -> np.ndarray:
-        """Hook: error from the current value to ``reference``, in velocity coordinates."""
+    def compute_error(self, value, reference) -> np.ndarray:
+        """Hook: error from ``value`` to ``reference``, in velocity coordinates; a pure
+        function of its arguments."""
 
     @abstractmethod
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
@@ -88,13 +104,15 @@ class Task(ABC):
     def compute_objective(self, state: ControlState) -> tuple[np.ndarray, np.ndarray]:
         """The Jacobian and the velocity the task asks for this cycle."""
         jacobian = self.compute_jacobian(state)
+        value = self.compute_value(state)
         if self._restart:
-            self._start(state, jacobian, self.compute_value(state))
+            self._start(state, jacobian, value)
         interpolator = self._interpolator
         goal = self._target if self._constant_goal else self._goal(state)
         if interpolator.passthrough:
             self._reference = goal
-            correction = self._feedback.compute(self.compute_error(state, goal))
+            self._sample = (state.kinematics.stamp, value, goal, goal)
+            correction = self._feedback.compute(self.compute_error(value, goal))
             return jacobian, goal + correction if self.order else correction
         chart = self._chart
         interpolator.target = chart.to_vector(goal)
@@ -102,7 +120,8 @@ class Task(ABC):
         reference = chart.from_vector(position)
         feedforward = chart.velocity(position, rate) if self.order == 0 else position
         self._reference = reference
-        error = self.compute_error(state, reference)
+        self._sample = (state.kinematics.stamp, value, goal, reference)
+        error = self.compute_error(value, reference)
         return jacobian, feedforward + self._feedback.compute(error)
 
     def _start(self, state: ControlState, jacobian: np.ndarray, value) -> None:
@@ -150,6 +169,7 @@ class Task(ABC):
         self._constant_goal = not isinstance(value, (Current, BodyTarget))
         self._finite = self._check_finite(value)
         self._restart = True
+        self._sample = None
 
     @staticmethod
     def _check_finite(target) -> bool:
@@ -250,18 +270,37 @@ class Task(ABC):
         """Whether the task is enabled and its interpolator has finished."""
         return self._enabled and not self._restart and self._interpolator.finished
 
+    def sample(self) -> TaskSample:
+        """The task at the latest state: what the controller computed for it, or,
+        when the controller has not run on that state, its value and goal now."""
+        kinematics = self.state.kinematics
+        cached = self._sample
+        if kinematics.q is None:
+            return TaskSample(kinematics.stamp, None, None, self._reference)
+        if cached is not None and cached[0] == kinematics.stamp:
+            return TaskSample(*cached)
+        value = self.compute_value(self.state)
+        return TaskSample(kinematics.stamp, value, self._goal(self.state, value),
+                          self._reference)
+
     def error_vector(self) -> np.ndarray:
         """Error from the current state to the target (NaN before any state)."""
-        state = self.state
-        if state.kinematics.q is None:
+        sample = self.sample()
+        if sample.value is None:
             return np.full(self.dimension, np.nan)
-        value = self.compute_value(state)
-        return self.compute_error(state, self._goal(state, value))
+        return self.compute_error(sample.value, sample.goal)
+
+    def error_norm(self, value, goal) -> float:
+        """What :attr:`error` reports for the task at ``value`` with ``goal``."""
+        return float(np.linalg.norm(self.compute_error(value, goal)))
 
     @property
     def error(self) -> float:
         """Norm of the error to the target, at the latest state [task units]."""
-        return float(np.linalg.norm(self.error_vector()))
+        sample = self.sample()
+        if sample.value is None:
+            return float("nan")
+        return self.error_norm(sample.value, sample.goal)
 
     @property
     def position_error(self) -> float:

@@ -47,8 +47,8 @@ class BodyOrientationTask(BodyTask):
     def compute_value(self, state: ControlState) -> np.ndarray:
         return self.pose(state).rotation
 
-    def compute_error(self, state: ControlState, reference: np.ndarray) -> np.ndarray:
-        return rotation_error(reference, self.pose(state).rotation)
+    def compute_error(self, value: np.ndarray, reference: np.ndarray) -> np.ndarray:
+        return rotation_error(reference, value)
 
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         return state.jacobian(self.body_id, self.reference_id)[3:]

@@ -40,8 +40,8 @@ class BodyPoseTask(BodyTask):
     def compute_value(self, state: ControlState) -> pin.SE3:
         return self.pose(state)
 
-    def compute_error(self, state: ControlState, reference: pin.SE3) -> np.ndarray:
-        return pose_error(reference, self.pose(state))
+    def compute_error(self, value: pin.SE3, reference: pin.SE3) -> np.ndarray:
+        return pose_error(reference, value)
 
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         return state.jacobian(self.body_id, self.reference_id)

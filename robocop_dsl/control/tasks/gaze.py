@@ -67,29 +67,27 @@ class GazeTask(BodyTask):
         self._watched = None if isinstance(value, Current) else value
         Task.target.fset(self, np.zeros(2))
 
-    def _direction(self, state: ControlState):
-        """``(u, p, d)``: unit direction [-], vector [m] and distance [m] from the body's
-        origin to the watched point, in the body's frame; ``None`` when nothing is
-        watched or the point is at the origin."""
+    def watched_pose(self, state: ControlState) -> pin.SE3 | None:
+        """Pose of the watched body (or the watched point, unrotated) in the reference
+        frame; ``None`` when nothing is watched."""
         watched = self._watched
         if watched is None:
             return None
         if isinstance(watched, BodyTarget):
-            point = watched.apply(state.pose(state.body(watched.body),
-                                             self.reference_id)).translation
-        else:
-            point = watched
-        pose = self.pose(state)
-        local = pose.rotation.T @ (point - pose.translation)
-        distance = float(np.linalg.norm(local))
-        return None if distance < 1e-9 else (local / distance, local, distance)
+            return watched.apply(state.pose(state.body(watched.body), self.reference_id))
+        return pin.SE3(np.eye(3), watched)
+
+    def _direction(self, state: ControlState):
+        """``(u, p, d)`` from the body to the watched point (see :func:`direction`)."""
+        watched = self.watched_pose(state)
+        return None if watched is None else direction(self.pose(state), watched.translation)
 
     def compute_value(self, state: ControlState) -> np.ndarray:
         found = self._direction(state)
         return np.zeros(2) if found is None else (self._rows @ found[0])[:2]
 
-    def compute_error(self, state: ControlState, reference: np.ndarray) -> np.ndarray:
-        return reference - self.compute_value(state)
+    def compute_error(self, value: np.ndarray, reference: np.ndarray) -> np.ndarray:
+        return reference - value
 
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         found = self._direction(state)
@@ -106,7 +104,16 @@ class GazeTask(BodyTask):
     def angle(self) -> float:
         """Angle between the axis and the direction to the watched point [rad]; 0 when
         nothing is watched."""
-        found = self._direction(self.state) if self.state.kinematics.q is not None else None
+        state = self.state
+        if state.kinematics.q is None:
+            return 0.0
+        watched = self.watched_pose(state)
+        return 0.0 if watched is None else self.angle_at(self.pose(state), watched)
+
+    def angle_at(self, pose: pin.SE3, watched: pin.SE3 | None) -> float:
+        """:attr:`angle` [rad] with the body at ``pose`` and the watched point at
+        ``watched``'s origin (both in the reference frame)."""
+        found = None if watched is None else direction(pose, watched.translation)
         if found is None:
             return 0.0
         return float(np.arccos(np.clip(self._rows[2] @ found[0], -1.0, 1.0)))
@@ -122,3 +129,12 @@ class GazeTask(BodyTask):
 
     def parameters(self) -> dict:
         return {**super().parameters(), "target": self._watched, "axis": self.axis}
+
+
+def direction(pose: pin.SE3, point: np.ndarray):
+    """``(u, p, d)``: unit direction [-], vector [m] and distance [m] from the origin of
+    ``pose`` to ``point``, in the frame of ``pose``; ``None`` when the point is at the
+    origin."""
+    local = pose.rotation.T @ (point - pose.translation)
+    distance = float(np.linalg.norm(local))
+    return None if distance < 1e-9 else (local / distance, local, distance)
