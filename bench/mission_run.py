@@ -11,7 +11,8 @@ For each configuration, the same mission runs to its end in this process (best o
 - log write [ms]: the run log's work after the last cycle (the task views it computes
   then, and the Parquet file).
 
-Below the table: what the run log adds to the median cycle, against no observer.
+Below the table: what the run log adds to the median cycle, against no observer, and
+the memory it holds per cycle until it writes (one more run, under ``tracemalloc``).
 
 With ``--viewer``, it then compares the cycle times of real-time runs headless, with
 the live Meshcat viewer and with the replay recorder (``viewer_overhead.py``).
@@ -25,6 +26,7 @@ from __future__ import annotations
 import argparse
 import tempfile
 import time
+import tracemalloc
 
 import numpy as np
 from rich.console import Console
@@ -54,6 +56,19 @@ def run_once(mission, with_log: bool):
     result = runner.run()
     wall = time.perf_counter() - start
     return result, wall, logger.write_time if logger else 0.0
+
+
+def log_memory(mission, cycles: int = 1000) -> float:
+    """Bytes the run log holds per cycle, over ``cycles`` cycles after the first."""
+    runner = mission.runner()
+    runner.add_observer(RunLogger(tempfile.mkdtemp(), runner.joint_names))
+    runner.step()
+    tracemalloc.start()
+    for _ in range(cycles):
+        runner.step()
+    held = tracemalloc.get_traced_memory()[0]
+    tracemalloc.stop()
+    return held / cycles
 
 
 def measure(mission, with_log: bool, repeat: int) -> dict:
@@ -96,6 +111,8 @@ def main() -> None:
     bare, logged = rows["no observer"]["cycle median"], rows["with --log"]["cycle median"]
     console.print(f"The run log adds {logged - bare:.1f} us to the median cycle "
                   f"({(logged / bare - 1) * 100:.1f}% of the cycle without observer).")
+    console.print(f"It holds {log_memory(mission) / 1024:.1f} KiB per cycle until the run "
+                  "stops and it writes.")
     if args.viewer:
         import viewer_overhead
 
