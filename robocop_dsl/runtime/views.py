@@ -15,7 +15,6 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
-from ..control import BodyTarget
 from .records import TaskView
 
 _KINDS = {"joint_position": "joint", "joint_velocity": "velocity", "body_velocity": "velocity",
@@ -71,7 +70,7 @@ def _resolve(task, sample, target, poses: dict) -> TaskView:
     frame = poses[reference_id] if reference_id else None
     if task.kind == "gaze":
         pose = _relative(poses[task.body_id], frame)
-        watched = _watched(task, target, poses, frame)
+        watched = task.locate(target, lambda frame_id: _relative(poses[frame_id], frame))
         error = task.angle_at(pose, watched)
         shown = np.zeros(0) if watched is None else _in_world(task, watched, frame, None)
         return TaskView(task.name, kind, body, error, shown,
@@ -84,15 +83,6 @@ def _resolve(task, sample, target, poses: dict) -> TaskView:
 
 def _relative(pose: pin.SE3, frame: pin.SE3 | None) -> pin.SE3:
     return pose if frame is None else frame.actInv(pose)
-
-
-def _watched(task, target, poses: dict, frame) -> pin.SE3 | None:
-    """The pose a gaze task watched, in its reference frame."""
-    if target is None:
-        return None
-    if isinstance(target, BodyTarget):
-        return target.apply(_relative(poses[task.state.body(target.body)], frame))
-    return pin.SE3(np.eye(3), np.asarray(target, dtype=float))
 
 
 def _in_world(task, value, frame: pin.SE3 | None, body: pin.SE3 | None) -> np.ndarray:

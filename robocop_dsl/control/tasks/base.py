@@ -1,13 +1,12 @@
 """Abstract task: a desired motion of a body or joint group, as a QP objective.
 
-A subclass implements three hooks, :meth:`Task.compute_value` (where the task is
-now), :meth:`Task.compute_error` (from a value to a reference, in the task's velocity
-coordinates) and :meth:`Task.compute_jacobian` (from the command to those
-velocities). :meth:`Task.compute_objective` drives them and must not be overridden: it
+A subclass implements two hooks, :meth:`Task.compute_value` (where the task is now)
+and :meth:`Task.compute_jacobian` (from the command to the task's velocities), and
+overrides :meth:`Task.compute_error` when its values are not vectors (rotations,
+poses). :meth:`Task.compute_objective` drives them and must not be overridden: it
 steps the interpolator towards the target, adds the interpolator's velocity and the
 feedback loop's correction, and returns the Jacobian and the velocity to track. It
-keeps what it computed as the task's :class:`TaskSample` of that state, for observers.
-"""
+keeps what it computed as the task's :class:`TaskSample` of that state, for observers."""
 
 from __future__ import annotations
 
@@ -84,10 +83,10 @@ class Task(ABC):
     def compute_value(self, state: ControlState):
         """Hook: the task's current value (vector, rotation matrix or ``pin.SE3``)."""
 
-    @abstractmethod
     def compute_error(self, value, reference) -> np.ndarray:
         """Hook: error from ``value`` to ``reference``, in velocity coordinates; a pure
-        function of its arguments."""
+        function of its arguments. Default ``reference - value``, for vector values."""
+        return reference - value
 
     @abstractmethod
     def compute_jacobian(self, state: ControlState) -> np.ndarray:

@@ -32,8 +32,5 @@ class BodyPositionTask(BodyTask):
     def compute_value(self, state: ControlState) -> np.ndarray:
         return self.pose(state).translation
 
-    def compute_error(self, value: np.ndarray, reference: np.ndarray) -> np.ndarray:
-        return reference - value
-
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         return state.jacobian(self.body_id, self.reference_id)[:3]

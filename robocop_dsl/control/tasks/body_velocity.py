@@ -26,8 +26,5 @@ class BodyVelocityTask(BodyTask):
     def compute_value(self, state: ControlState) -> np.ndarray:
         return self.compute_jacobian(state) @ state.velocity
 
-    def compute_error(self, value: np.ndarray, reference: np.ndarray) -> np.ndarray:
-        return reference - value
-
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         return state.jacobian(self.body_id, self.reference_id)

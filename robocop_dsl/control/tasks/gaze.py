@@ -70,12 +70,16 @@ class GazeTask(BodyTask):
     def watched_pose(self, state: ControlState) -> pin.SE3 | None:
         """Pose of the watched body (or the watched point, unrotated) in the reference
         frame; ``None`` when nothing is watched."""
-        watched = self._watched
+        return self.locate(self._watched, lambda frame: state.pose(frame, self.reference_id))
+
+    def locate(self, watched, pose_of) -> pin.SE3 | None:
+        """Pose of ``watched`` (a :attr:`target`) in the reference frame, a body's from
+        ``pose_of(frame_id)`` (its pose in the reference frame)."""
         if watched is None:
             return None
         if isinstance(watched, BodyTarget):
-            return watched.apply(state.pose(state.body(watched.body), self.reference_id))
-        return pin.SE3(np.eye(3), watched)
+            return watched.apply(pose_of(self.state.body(watched.body)))
+        return pin.SE3(np.eye(3), np.asarray(watched, dtype=float))
 
     def _direction(self, state: ControlState):
         """``(u, p, d)`` from the body to the watched point (see :func:`direction`)."""
@@ -85,9 +89,6 @@ class GazeTask(BodyTask):
     def compute_value(self, state: ControlState) -> np.ndarray:
         found = self._direction(state)
         return np.zeros(2) if found is None else (self._rows @ found[0])[:2]
-
-    def compute_error(self, value: np.ndarray, reference: np.ndarray) -> np.ndarray:
-        return reference - value
 
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         found = self._direction(state)

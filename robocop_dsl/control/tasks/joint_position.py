@@ -29,9 +29,6 @@ class JointPositionTask(Task):
     def compute_value(self, state: ControlState) -> np.ndarray:
         return state.q[self._positions]
 
-    def compute_error(self, value: np.ndarray, reference: np.ndarray) -> np.ndarray:
-        return reference - value
-
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         return self._jacobian
 
