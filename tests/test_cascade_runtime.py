@@ -3,6 +3,7 @@ each in its own thread on its own world copy. Periods, the head tracking the par
 determinism, actions across threads and a lost head robot."""
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -19,17 +20,26 @@ RATIO = 4
 
 
 class HeadWatch(Observer):
-    """Samples, after every arms cycle, the head's published cycle count and gaze error."""
+    """Samples, after every arms cycle, the head's published cycle count and gaze error;
+    ``behind`` lists the arms cycles that ended more than a period after their start
+    time (the machine stalled the arms thread)."""
 
     def __init__(self, runner):
         self.link = runner.threads[0].link
         self.samples = []
+        self.behind = set()
+        self._start = None
+
+    def on_start(self, runner):
+        self._start = time.perf_counter()
 
     def on_cycle(self, record):
         status = self.link.status
         watch = status.tasks.get("watch")
         self.samples.append((record.cycle, record.time, record.state, status.cycle,
                              math.degrees(watch.error) if watch else math.nan))
+        if time.perf_counter() - self._start > (record.cycle + 1) * ARMS:
+            self.behind.add(record.cycle)
 
 
 def run_cascade(realtime=False, duration=None, **options):
@@ -90,12 +100,16 @@ def test_lockstep_runs_are_deterministic(lockstep_run):
 
 
 def test_cascaded_controllers_keep_their_periods_in_real_time():
-    """Against the threaded drivers in real time, after every arms cycle the head's cycle
-    count is within one cycle of what its period gives, and over the run too."""
+    """Against the threaded drivers in real time, after every arms cycle run on time the
+    head's cycle count is within one cycle of what its period gives, and over the run
+    too. Cycles the machine delayed by more than a period (a stalled thread on a busy
+    machine) are left out of the first check; they must stay rare."""
     runner, result, watch = run_cascade(realtime=True, duration=1.5)
     head = runner.threads[0]
     assert result.outcome == "stopped" and result.cycles == 300
-    late = [(k, h) for k, _, _, h, _ in watch.samples if abs(h - k / RATIO) > 1]
+    assert len(watch.behind) < 30
+    late = [(k, h) for k, _, _, h, _ in watch.samples
+            if abs(h - k / RATIO) > 1 and k not in watch.behind]
     assert late == []
     assert abs(head.cycle - 1.5 / HEAD) <= 1
     assert watch.samples[-1][4] < 1.0
