@@ -67,8 +67,8 @@ def test_actions_in_si(pickup):
 
 
 def test_transitions_in_order_then_guards(pickup):
-    """A state's clauses come first, then the top-level guards."""
-    transitions = pickup.states["approach"].transitions
+    """A state's own clauses in writing order; the top-level guards on the machine."""
+    transitions = pickup.states["approach"].transitions + pickup.machine.guards
     assert [(t.target, t.guard) for t in transitions] == [
         ("grasp", False), ("failed", False), ("failed", True)]
     first = transitions[0]
@@ -92,7 +92,8 @@ def test_state_graph_edges_carry_condition_and_span(pickup):
     assert [c.guard for c in failing["clauses"]] == [False, True]
     assert failing["condition"] == "(elapsed > 10 s) or (controller.failed)"
     assert graph.nodes["failed"] == {"final": True, "outcome": "failure", "start": False,
-                                     "span": graph.nodes["failed"]["span"]}
+                                     "span": graph.nodes["failed"]["span"], "kind": "final",
+                                     "machine": "", "name": "failed"}
     assert graph.out_degree("done") == 0
 
 

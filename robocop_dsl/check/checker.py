@@ -28,6 +28,7 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None) -> Check
     check_assignment(ctx, mission)
     check_start(ctx, mission)
     check_states(ctx, mission)
+    ctx.expanded = mission
     return ctx
 
 

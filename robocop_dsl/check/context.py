@@ -146,6 +146,7 @@ class CheckContext:
         self.world = WorldNames(world)
         self.symbols = Symbols()
         self.diagnostics: list[Diagnostic] = []
+        self.expanded = ast.Mission()
 
     def error(self, code: str, message: str, span: Span | None, hint: str | None = None):
         self.diagnostics.append(self.source.error(code, message, _located(span), hint))

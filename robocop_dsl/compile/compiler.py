@@ -19,13 +19,18 @@ from ..lang.catalogue import (BODY, CONSTRAINTS, FEEDBACKS, INTEGER, INTERPOLATO
                               JOINT_GROUP, PER_DOF, SCALAR, TASKS, Kind, Registry)
 from ..lang.formatter import format_condition
 from . import spec
+from .state_graph import join, machine_start, region_machine
 
 _SPACE_DOFS = {"position": 3, "orientation": 3, "pose": 6, "twist": 6, "gaze": 2}
 
 
 def compile_mission(mission: ast.Mission, source: SourceFile, world, world_path: Path,
-                    start: str, graph: nx.DiGraph) -> spec.MissionSpec:
-    """The :class:`~spec.MissionSpec` of a mission that checked without errors."""
+                    graph: nx.DiGraph) -> spec.MissionSpec:
+    """The :class:`~spec.MissionSpec` of a mission that checked without errors.
+
+    ``mission`` is the checker's expanded tree: constants and behaviour parameters
+    substituted, every behaviour instance bound to its machine (see
+    :mod:`robocop_dsl.check.expand`)."""
     names = WorldNames(world)
     header = mission.first(ast.MissionHeader)
     controllers = mission_controllers(names, mission)
@@ -34,16 +39,12 @@ def compile_mission(mission: ast.Mission, source: SourceFile, world, world_path:
     tasks = {d.name.text: _task(d, names, controller_of(names, controllers, d))
              for d in mission.tasks}
     converter = _Converter(mission, names)
-    guards = tuple(converter.transition(g, guard=True) for g in mission.guards)
-    states = {s.name.text: converter.state(s, guards) for s in mission.states}
-    events = frozenset([a.event.text for s in mission.states for b in s.blocks
-                        for a in b.actions if isinstance(a, ast.Emit)]
-                       + [e.name.text for e in mission.of_type(ast.EventDecl)])
+    machine = converter.machine(mission.machine, "", None, ())
+    events = frozenset(converter.emitted | {e.name.text for e in mission.of_type(ast.EventDecl)})
     return spec.MissionSpec(
         name=header.name.text, description=header.description, world_path=world_path,
-        controller=controllers[0], constraints=constraints, tasks=tasks, states=states,
-        start=start, guards=guards, events=events, graph=graph, source=source,
-        controllers=tuple(controllers))
+        controller=controllers[0], constraints=constraints, tasks=tasks, machine=machine,
+        events=events, graph=graph, source=source, controllers=tuple(controllers))
 
 
 def _parameters(decl) -> dict[str, ast.Value]:
@@ -154,28 +155,49 @@ def target_spec(value: ast.Value | None, kind: Kind, dofs: int) -> spec.TargetSp
 
 
 class _Converter:
-    """Converts states, actions and conditions, knowing the mission's tasks."""
+    """Converts machines, states, actions and conditions, knowing the mission's tasks.
+
+    ``scope`` is the chain of machines a clause can see, innermost first: each a dict
+    of local state name to ``(path, declaration)``."""
 
     def __init__(self, mission: ast.Mission, names: WorldNames):
         self.tasks = {d.name.text: d for d in mission.tasks}
         self.constraints = {d.name.text: d for d in mission.constraints}
         self.names = names
+        self.emitted: set[str] = set()
 
-    def state(self, state: ast.StateDecl, guards) -> spec.StateSpec:
+    def machine(self, machine: ast.Machine, path: str, region: str | None,
+                scope: tuple) -> spec.MachineSpec:
+        prefix = path
+        local = {s.name.text: (join(prefix, s.name.text), s) for s in machine.states}
+        scope = (local, *scope)
+        states = {name: self.state(decl, state_path, scope)
+                  for name, (state_path, decl) in local.items()}
+        guards = tuple(self.transition(g, True, scope) for g in machine.guards)
+        return spec.MachineSpec(path, states, machine_start(machine), guards, region)
+
+    def state(self, state: ast.StateDecl, path: str, scope: tuple) -> spec.StateSpec:
         blocks = {kind: tuple(self.action(a) for a in block.actions) if block else ()
                   for kind in ("enter", "during", "exit")
                   for block in (state.block(kind),)}
         transitions = () if state.final else tuple(
-            self.transition(t, guard=False) for t in state.transitions) + guards
+            self.transition(t, False, scope) for t in state.transitions)
         outcome = (state.outcome.text if state.outcome else "success") if state.final else None
+        machines = tuple(
+            self.machine(region_machine(r), join(path, r.name.text) if r.name else path,
+                         r.name.text if r.name else None, scope)
+            for r in state.regions)
         return spec.StateSpec(state.name.text, blocks["enter"], blocks["during"],
-                              blocks["exit"], transitions, state.final, outcome, state.span)
+                              blocks["exit"], transitions, state.final, outcome, state.span,
+                              path=path, machines=machines, parallel=state.parallel)
 
-    def transition(self, transition: ast.Transition, guard: bool) -> spec.TransitionSpec:
-        return spec.TransitionSpec(self.condition(transition.condition),
+    def transition(self, transition: ast.Transition, guard: bool,
+                   scope: tuple) -> spec.TransitionSpec:
+        return spec.TransitionSpec(self.condition(transition.condition, scope),
                                    transition.target.text,
                                    format_condition(transition.condition), guard,
-                                   transition.span)
+                                   transition.span,
+                                   tuple(self.action(a) for a in transition.actions))
 
     def action(self, action: ast.Action) -> spec.ActionSpec:
         span = action.span
@@ -192,6 +214,7 @@ class _Converter:
         if isinstance(action, ast.Detach):
             return spec.DetachAction(action.body.text, span)
         if isinstance(action, ast.Emit):
+            self.emitted.add(action.event.text)
             return spec.EmitAction(action.event.text, span)
         return spec.LogAction(action.text, span)
 
@@ -208,28 +231,54 @@ class _Converter:
         value = convert(action.value, parameter.kind, joints.dofs if joints else 1)
         return spec.SetParameterAction(owner, parameter.name, value, action.span)
 
-    def condition(self, condition: ast.Condition) -> spec.ConditionSpec:
+    def condition(self, condition: ast.Condition, scope: tuple) -> spec.ConditionSpec:
         if isinstance(condition, ast.Or):
-            return spec.AnyCondition(tuple(map(self.condition, condition.operands)))
+            return spec.AnyCondition(tuple(self.condition(c, scope)
+                                           for c in condition.operands))
         if isinstance(condition, ast.And):
-            return spec.AllCondition(tuple(map(self.condition, condition.operands)))
+            return spec.AllCondition(tuple(self.condition(c, scope)
+                                           for c in condition.operands))
         if isinstance(condition, ast.Not):
-            return spec.NotCondition(self.condition(condition.operand))
+            return spec.NotCondition(self.condition(condition.operand, scope))
         if isinstance(condition, ast.EventCondition):
             return spec.EventCondition(condition.event.text)
         if isinstance(condition, ast.Comparison):
-            return spec.CompareCondition(self.measure(condition.measure),
+            return spec.CompareCondition(self.measure(condition.measure, scope),
                                          condition.operator, to_si(condition.quantity))
         if condition.owner.text == "controller":
             return spec.ControllerFailedCondition()
-        return spec.ReachedCondition(condition.owner.text)
+        state = state_in_scope(scope, condition)
+        if state is None:
+            return spec.ReachedCondition(condition.owner.text)
+        if condition.field.text == "done":
+            return spec.DoneCondition(state)
+        return spec.FinalCondition(state, condition.field.text,
+                                   condition.region.text if condition.region else None)
 
-    @staticmethod
-    def measure(measure: ast.Measure) -> spec.MeasureSpec:
+    def measure(self, measure: ast.Measure, scope: tuple) -> spec.MeasureSpec:
         if isinstance(measure, ast.Elapsed):
             return spec.ElapsedMeasure()
         if isinstance(measure, ast.Time):
             return spec.TimeMeasure()
         if isinstance(measure, ast.Distance):
             return spec.DistanceMeasure(measure.first.text, measure.second.text)
+        state = state_in_scope(scope, measure)
+        if state is not None:
+            return spec.VisitsMeasure(state)
         return spec.TaskMeasure(measure.owner.text, measure.field.text)
+
+
+STATE_FIELDS = ("done", "visits")
+
+
+def state_in_scope(scope: tuple, member: ast.Member) -> str | None:
+    """The path of the state a member condition reads (``S.FINAL``, ``S.done``,
+    ``S.REGION.FINAL``, ``S.visits``), or ``None`` when it reads a task."""
+    for machine in scope:
+        if member.owner.text in machine:
+            path, decl = machine[member.owner.text]
+            if member.region is not None or member.field.text in STATE_FIELDS \
+                    or decl.regions:
+                return path
+            return None
+    return None

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import networkx as nx
 
-from ..check import check_graph, check_mission, first_state
+from ..check import check_graph, check_mission
 from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, sort_key
 from ..lang import ast, parse_mission
 from ..world import World, load_world, resolve_world_path
@@ -90,15 +90,14 @@ def check_source(text: str, path: str | Path = "<mission>", *, world: World | No
     else:
         world_path, world, loading = _world_of(tree, source, cache or WorldCache())
     ctx = check_mission(tree, source, world)
-    start = first_state(ctx, tree)
-    graph = build_state_graph(tree, start)
+    graph = build_state_graph(ctx.expanded)
     if parsed.ok:
-        check_graph(ctx, tree, graph)
+        check_graph(ctx, ctx.expanded, graph)
     diagnostics = tuple(sorted([*parsed.diagnostics, *loading, *ctx.diagnostics],
                                key=lambda d: (d.file != source.path, *sort_key(d))))
     compiled = None
     if not any(d.is_error for d in diagnostics) and world is not None:
-        compiled = compile_mission(tree, source, world, world_path, start, graph)
+        compiled = compile_mission(ctx.expanded, source, world, world_path, graph)
     return CheckResult(source, diagnostics, tree, graph, world, compiled)
 
 
@@ -112,8 +111,7 @@ def check_file(path: str | Path, *, world: World | None = None,
         source = SourceFile(str(path), "")
         problem = source.error("unreadable-file", f"cannot read the file: "
                                f"{getattr(error, 'strerror', None) or error}", None)
-        return CheckResult(source, (problem,), ast.Mission(), nx.DiGraph(start=None,
-                                                                         guards=()),
+        return CheckResult(source, (problem,), ast.Mission(), nx.DiGraph(start=None, guards=(), machines={}),
                            None, None)
     return check_source(text, path, world=world, cache=cache)
 

@@ -211,7 +211,16 @@ class TaskMeasure:
 
 @dataclass(frozen=True)
 class ElapsedMeasure:
-    """Time in the current state [s]."""
+    """Time in the state that owns the clause [s] (for a machine's top-level clause, in
+    that machine's active state)."""
+
+
+@dataclass(frozen=True)
+class VisitsMeasure:
+    """How often the state at ``state`` (a path) was entered since its machine was
+    entered, this entry included."""
+
+    state: str
 
 
 @dataclass(frozen=True)
@@ -227,7 +236,7 @@ class DistanceMeasure:
     second: str
 
 
-MeasureSpec = Union[TaskMeasure, ElapsedMeasure, TimeMeasure, DistanceMeasure]
+MeasureSpec = Union[TaskMeasure, ElapsedMeasure, TimeMeasure, DistanceMeasure, VisitsMeasure]
 
 
 @dataclass(frozen=True)
@@ -241,9 +250,27 @@ class CompareCondition:
 
 @dataclass(frozen=True)
 class EventCondition:
-    """True in the cycle after an ``emit`` of ``event``."""
+    """True from the cycle after ``event`` was raised until the state that owns the
+    clause is left; a state entered after the event's cycle does not see it."""
 
     event: str
+
+
+@dataclass(frozen=True)
+class FinalCondition:
+    """True while the machine of the state at ``state`` (a path), or its region
+    ``region`` for a parallel state, is in its final state ``final``."""
+
+    state: str
+    final: str
+    region: str | None = None
+
+
+@dataclass(frozen=True)
+class DoneCondition:
+    """True while every region of the parallel state at ``state`` is in a final state."""
+
+    state: str
 
 
 @dataclass(frozen=True)
@@ -266,28 +293,39 @@ class AnyCondition:
 
 
 ConditionSpec = Union[ReachedCondition, ControllerFailedCondition, CompareCondition,
-                      EventCondition, NotCondition, AllCondition, AnyCondition]
+                      EventCondition, FinalCondition, DoneCondition, NotCondition,
+                      AllCondition, AnyCondition]
 
 
-# ---- states and the mission -----------------------------------------------------------
+# ---- states, machines and the mission --------------------------------------------------
 
 @dataclass(frozen=True)
 class TransitionSpec:
-    """``when condition -> target``; ``text`` is the condition as written (canonical),
-    ``guard`` tells a top-level clause."""
+    """``when condition -> target [{ actions }]``. ``target`` is a state of the same
+    machine as the clause's source, by its local name; ``text`` is the condition as
+    written (canonical); ``guard`` tells a machine's top-level clause from a state's
+    own; ``actions`` run after the exits and before the enters."""
 
     condition: ConditionSpec
     target: str
     text: str
     guard: bool
     span: Span = field(compare=False)
+    actions: tuple[ActionSpec, ...] = ()
 
 
 @dataclass(frozen=True)
 class StateSpec:
-    """A state and its blocks. ``transitions`` are the state's own clauses then the
-    top-level guards, in the order they are checked (none for final states).
-    ``outcome`` is ``"success"`` or ``"failure"`` for final states, else ``None``."""
+    """A state and its blocks.
+
+    ``name`` is local to its machine, ``path`` names it from the mission's machine
+    (``carry/up``; a parallel state's region adds its name: ``both/left/above``).
+    ``transitions`` are the state's own clauses in writing order (none for final
+    states); the machine's guards are on :class:`MachineSpec`. ``machines``: none for a
+    simple state, one for a compound state or a behaviour instance (behaviour expanded),
+    one per region, in declaration order, for a ``parallel`` state. ``outcome`` is
+    ``"success"`` or ``"failure"`` for final states, else ``None``.
+    """
 
     name: str
     enter: tuple[ActionSpec, ...]
@@ -297,6 +335,39 @@ class StateSpec:
     final: bool
     outcome: str | None
     span: Span = field(compare=False)
+    path: str = ""
+    machines: tuple["MachineSpec", ...] = ()
+    parallel: bool = False
+
+    @property
+    def compound(self) -> bool:
+        """Whether the state has a machine of its own (compound, instance, parallel)."""
+        return bool(self.machines)
+
+
+@dataclass(frozen=True)
+class MachineSpec:
+    """A state machine: the mission's (``path`` ``""``), a compound state's (the
+    state's path) or a parallel state's region (``STATE_PATH/REGION``, ``region`` set).
+
+    ``states`` by local name in declaration order; ``start`` the local name of the
+    state it starts in; ``guards`` its own top-level clauses, checked after the active
+    state's own clauses.
+    """
+
+    path: str
+    states: dict[str, StateSpec]
+    start: str
+    guards: tuple[TransitionSpec, ...] = ()
+    region: str | None = None
+
+    def walk(self):
+        """Every state of this machine and of the machines nested in it, parents
+        first, in declaration order."""
+        for state in self.states.values():
+            yield state
+            for machine in state.machines:
+                yield from machine.walk()
 
 
 @dataclass(frozen=True)
@@ -304,8 +375,10 @@ class MissionSpec:
     """A checked mission. ``world_path`` is the resolved world file; ``controllers``
     the qp_controller processors that run the tasks (several: cascaded, fastest first,
     see :mod:`robocop_dsl.check.controllers`); ``controller`` the first of them, which
-    runs the state machine; ``graph`` the state graph (see
-    :mod:`robocop_dsl.compile.state_graph`). Dicts keep declaration order."""
+    runs the state machine; ``machine`` the mission's state machine (nested machines
+    inside its states, behaviour instances expanded); ``states`` every state of every
+    level by path; ``graph`` the state graph (see :mod:`robocop_dsl.compile.state_graph`).
+    Dicts keep declaration order."""
 
     name: str
     description: str | None
@@ -313,9 +386,7 @@ class MissionSpec:
     controller: str
     constraints: dict[str, ConstraintSpec]
     tasks: dict[str, TaskSpec]
-    states: dict[str, StateSpec]
-    start: str
-    guards: tuple[TransitionSpec, ...]
+    machine: MachineSpec
     events: frozenset[str]
     graph: nx.DiGraph = field(compare=False, repr=False)
     source: SourceFile = field(compare=False, repr=False)
@@ -326,9 +397,25 @@ class MissionSpec:
         """Whether several controllers run the mission, each in its own thread."""
         return len(self.controllers) > 1
 
-    def state(self, name: str) -> StateSpec:
-        return self.states[name]
+    @property
+    def states(self) -> dict[str, StateSpec]:
+        """Every state of every level, by path, parents first."""
+        return {state.path: state for state in self.machine.walk()}
+
+    @property
+    def start(self) -> str:
+        """The local name of the state the mission's machine starts in."""
+        return self.machine.start
+
+    @property
+    def guards(self) -> tuple[TransitionSpec, ...]:
+        """The mission's top-level clauses."""
+        return self.machine.guards
+
+    def state(self, path: str) -> StateSpec:
+        return self.states[path]
 
     @property
     def final_states(self) -> list[str]:
-        return [name for name, state in self.states.items() if state.final]
+        """The mission's own final states (they end the run)."""
+        return [name for name, state in self.machine.states.items() if state.final]

@@ -1,12 +1,21 @@
-"""The state machine as a ``networkx.DiGraph``.
+"""The state machines as one ``networkx.DiGraph`` with a containment tree.
 
-Nodes are state names with ``final`` (bool), ``outcome`` (``"success"``/``"failure"``
-for final states, else ``None``), ``start`` (bool) and ``span``. An edge ``a -> b``
-exists when some clause of ``a`` (its own ``when`` clauses, then the top-level guards)
-leads to ``b``; it carries ``condition`` (the text of its clauses joined with ``or``),
-``span`` (the first clause's) and ``clauses`` (every :class:`Clause`, in the order they
-are checked). Final states have no outgoing edges. The graph's own attributes are
-``start`` (a state name or ``None``) and ``guards`` (the top-level clauses).
+Nodes are state paths (``approach``, ``carry/up``, ``both/left/above``: a parallel
+state's region adds its name) with ``name`` (local to its machine), ``machine`` (the
+path of the machine it belongs to: ``""`` for the mission's), ``final`` (bool),
+``outcome`` (``"success"``/``"failure"`` for the mission's final states, ``"outcome"``
+for a nested machine's finals, else ``None``), ``start`` (whether its machine starts
+in it), ``kind`` (``simple``, ``compound``, ``parallel`` or ``final``) and ``span``.
+
+An edge ``a -> b`` joins two states of one machine when some clause of ``a`` (its own
+``when`` clauses, then its machine's top-level guards) leads to ``b``; it carries
+``condition`` (the text of its clauses joined with ``or``), ``span`` (the first
+clause's) and ``clauses`` (every :class:`Clause`, in the order they are checked). Final
+states have no outgoing edges.
+
+The graph's own attributes: ``start`` (the mission's start path or ``None``), ``guards``
+(the mission's top-level clauses) and ``machines``: every :class:`MachineInfo` by path,
+parents first (the containment tree: a machine's ``owner`` is the state it belongs to).
 """
 
 from __future__ import annotations
@@ -33,36 +42,106 @@ class Clause:
 
 @dataclass(frozen=True)
 class Guard:
-    """A top-level ``when`` clause: checked in every non-final state after its own."""
+    """A machine's top-level ``when`` clause: checked in every non-final state of the
+    machine after its own."""
 
     condition: str
     target: str
     span: Span
 
 
-def build_state_graph(mission: ast.Mission, start: str | None) -> nx.DiGraph:
-    """The graph of ``mission``'s states; clauses to unknown states are left out."""
-    graph = nx.DiGraph(start=start, guards=tuple(
-        Guard(format_condition(g.condition), g.target.text, g.span) for g in mission.guards))
+@dataclass(frozen=True)
+class MachineInfo:
+    """One machine of the containment tree. ``owner`` is the path of the state it
+    belongs to (``None`` for the mission's), ``region`` its name in a parallel state,
+    ``start`` the path of its start state (``None`` when it has no state), ``states``
+    its states' paths in declaration order, ``guards`` its top-level clauses (targets
+    as paths)."""
+
+    path: str
+    owner: str | None
+    region: str | None
+    start: str | None
+    states: tuple[str, ...]
+    guards: tuple[Guard, ...]
+
+
+def join(path: str, name: str) -> str:
+    """The path of ``name`` inside the machine at ``path``."""
+    return f"{path}/{name}" if path else name
+
+
+def machine_start(machine: ast.Machine) -> str | None:
+    """The local name of the state a machine starts in: ``start`` when it names one of
+    its states, else its first state."""
+    names = [s.name.text for s in machine.states]
+    if machine.start is not None:
+        return machine.start.state.text if machine.start.state.text in names else None
+    return names[0] if names else None
+
+
+def region_machine(region: ast.Region) -> ast.Machine:
+    """A region's machine (an instance region's bound machine; empty when unbound)."""
+    return region.machine if region.machine is not None else ast.Machine()
+
+
+def build_state_graph(mission: ast.Mission) -> nx.DiGraph:
+    """The graph of ``mission``'s machines (an expanded tree: behaviour instances bound);
+    clauses to unknown states are left out, a repeated state name keeps the first."""
+    graph = nx.DiGraph(start=None, guards=(), machines={})
+    _add_machine(graph, mission.machine, "", None, None, root=True)
+    root = graph.graph["machines"][""]
+    graph.graph["start"] = root.start
+    graph.graph["guards"] = root.guards
+    return graph
+
+
+def _add_machine(graph: nx.DiGraph, machine: ast.Machine, path: str, owner: str | None,
+                 region: str | None, root: bool = False) -> None:
     states: dict[str, ast.StateDecl] = {}
-    for state in mission.states:
-        if state.name.text in states:
-            continue
-        states[state.name.text] = state
-        outcome = (state.outcome.text if state.outcome else "success") if state.final else None
-        graph.add_node(state.name.text, final=state.final, outcome=outcome,
-                       start=state.name.text == start, span=state.name.span)
+    for state in machine.states:
+        states.setdefault(state.name.text, state)
+    start = machine_start(machine)
+    guards = tuple(Guard(format_condition(g.condition), join(path, g.target.text), g.span)
+                   for g in machine.guards if g.target.text in states)
+    graph.graph["machines"][path] = MachineInfo(
+        path, owner, region, join(path, start) if start in states else None,
+        tuple(join(path, n) for n in states), guards)
+    for name, state in states.items():
+        state_path = join(path, name)
+        graph.add_node(state_path, name=name, machine=path, final=state.final,
+                       outcome=_outcome(state, root), start=name == start,
+                       kind=_kind(state), span=state.name.span)
+        for inner in state.regions:
+            inner_path = join(state_path, inner.name.text) if inner.name else state_path
+            _add_machine(graph, region_machine(inner), inner_path, state_path,
+                         inner.name.text if inner.name else None)
     for name, state in states.items():
         if state.final:
             continue
-        ordered = [(t, False) for t in state.transitions] + [(g, True) for g in mission.guards]
+        ordered = [(t, False) for t in state.transitions] + [(g, True) for g in machine.guards]
         for order, (transition, guard) in enumerate(ordered):
             if transition.target.text not in states:
                 continue
             clause = Clause(format_condition(transition.condition), transition.span, guard,
                             order)
-            _add_clause(graph, name, transition.target.text, clause)
-    return graph
+            _add_clause(graph, join(path, name), join(path, transition.target.text), clause)
+
+
+def _outcome(state: ast.StateDecl, root: bool) -> str | None:
+    if not state.final:
+        return None
+    if not root:
+        return "outcome"
+    return state.outcome.text if state.outcome else "success"
+
+
+def _kind(state: ast.StateDecl) -> str:
+    if state.final:
+        return "final"
+    if state.parallel:
+        return "parallel"
+    return "compound" if state.regions else "simple"
 
 
 def _add_clause(graph: nx.DiGraph, source: str, target: str, clause: Clause) -> None:
@@ -78,3 +157,8 @@ def _add_clause(graph: nx.DiGraph, source: str, target: str, clause: Clause) -> 
 def own_clauses(graph: nx.DiGraph, source: str, target: str) -> tuple[Clause, ...]:
     """The clauses of ``source -> target`` written in the state, not the guards."""
     return tuple(c for c in graph.edges[source, target]["clauses"] if not c.guard)
+
+
+def machine_graph(graph: nx.DiGraph, path: str) -> nx.DiGraph:
+    """The subgraph of the states of one machine (a view)."""
+    return graph.subgraph(graph.graph["machines"][path].states)

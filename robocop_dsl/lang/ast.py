@@ -40,10 +40,21 @@ class Quantity(Node):
 
 
 @dataclass(frozen=True)
-class Vector(Node):
-    """``[a, b, c] unit``: numbers sharing one optional unit."""
+class NameElement(Node):
+    """A name inside a vector: a constant or a behaviour parameter, ``-NAME`` when
+    ``negative``."""
 
-    values: tuple[float, ...]
+    name: Name
+    negative: bool = False
+
+
+@dataclass(frozen=True)
+class Vector(Node):
+    """``[a, b, c] unit``: numbers sharing one optional unit; elements may be names
+    (:class:`NameElement`) until the checker substitutes their values. The unit
+    applies to the bare numbers only."""
+
+    values: tuple[float | NameElement, ...]
     unit: Name | None = None
 
 
@@ -100,10 +111,13 @@ class Parameter(Node):
 
 @dataclass(frozen=True)
 class Member(Node):
-    """``owner.field``: ``arms.reached``, ``left_tool.error``, ``controller.failed``."""
+    """``owner.field``: ``arms.reached``, ``left_tool.error``, ``controller.failed``,
+    ``pick.arrived`` (a final of a state's machine), ``both.done``, ``pick.visits``;
+    ``owner.region.field`` (``both.left.missed``) names a region's final."""
 
     owner: Name
     field: Name
+    region: Name | None = None
 
 
 @dataclass(frozen=True)
@@ -279,23 +293,76 @@ class ActionBlock(Node):
 
 @dataclass(frozen=True)
 class Transition(Node):
-    """``when CONDITION -> STATE``, inside a state or at the top level (a guard)."""
+    """``when CONDITION -> STATE [{ ACTIONS }]``, inside a state or at the top level of
+    a machine (a guard); ``actions`` run after the source's ``exit`` blocks and before
+    the target's ``enter`` blocks."""
 
     condition: Condition
     target: Name
+    actions: tuple[Action, ...] = ()
 
 
 StatePart = Union[ActionBlock, Transition]
 
 
 @dataclass(frozen=True)
+class Instance(Node):
+    """``NAME(ARGUMENTS)`` after ``state S:`` or ``region R:``: a behaviour instance."""
+
+    behavior: Name
+    arguments: tuple[Argument, ...] = ()
+
+
+@dataclass(frozen=True)
+class Machine(Node):
+    """A state machine's body: states and finals, an optional ``start`` and its own
+    top-level ``when`` clauses (guards, checked after the active state's own), in
+    source order."""
+
+    items: tuple[Union["StateDecl", StartDecl, Transition], ...] = ()
+
+    @property
+    def states(self) -> list["StateDecl"]:
+        return [i for i in self.items if isinstance(i, StateDecl)]
+
+    @property
+    def guards(self) -> list[Transition]:
+        return [i for i in self.items if isinstance(i, Transition)]
+
+    @property
+    def start(self) -> StartDecl | None:
+        return next((i for i in self.items if isinstance(i, StartDecl)), None)
+
+
+@dataclass(frozen=True)
+class Region(Node):
+    """A machine inside a state. A parallel state's ``region NAME { ... }`` (``machine``)
+    or ``region NAME: BEHAVIOR(ARGS)`` (``instance``), or, with ``name`` ``None``, the
+    machine of a compound state. After the checker expands behaviour instances, an
+    instance region has both ``instance`` and its bound ``machine``."""
+
+    name: Name | None
+    machine: Machine | None = None
+    instance: Instance | None = None
+
+
+@dataclass(frozen=True)
 class StateDecl(Node):
-    """``state NAME { ... }`` or ``final NAME[: OUTCOME] [{ ... }]``; parts in order."""
+    """``state NAME { ... }`` or ``final NAME[: OUTCOME] [{ ... }]``.
+
+    ``parts`` are the state's own blocks and clauses in order. A compound state has one
+    unnamed region (its inline machine); ``state S: B(ARGS) { ... }`` has ``instance``
+    (and, once expanded by the checker, the bound behaviour machine as its one unnamed
+    region); ``state S: parallel { ... }`` has ``parallel`` and named regions.
+    """
 
     name: Name
     parts: tuple[StatePart, ...] = ()
     final: bool = False
     outcome: Name | None = None
+    instance: Instance | None = None
+    parallel: bool = False
+    regions: tuple[Region, ...] = ()
 
     @property
     def blocks(self) -> tuple[ActionBlock, ...]:
@@ -310,8 +377,54 @@ class StateDecl(Node):
         return next((b for b in self.blocks if b.kind == kind), None)
 
 
-Item = Union[MissionHeader, WorldDecl, ControllerDecl, TaskDecl, ConstraintDecl, EventDecl,
-             StartDecl, StateDecl, Transition]
+@dataclass(frozen=True)
+class LibraryHeader(Node):
+    """``library NAME "description"``: a file of declarations meant to be imported."""
+
+    name: Name
+    description: str | None = None
+
+
+@dataclass(frozen=True)
+class Import(Node):
+    """``import "FILE"``: declarations of another file, beside this one, then the robots
+    path."""
+
+    path: String
+
+
+@dataclass(frozen=True)
+class Let(Node):
+    """``let NAME = VALUE``: a named constant."""
+
+    name: Name
+    value: Value
+
+
+@dataclass(frozen=True)
+class BehaviorParam(Node):
+    """``NAME: KIND [= DEFAULT]`` in a behaviour's parameter list; ``kind`` is ``task``,
+    ``constraint``, ``body``, ``joint_group``, ``event``, ``target`` or a dimension
+    (``length``, ``angle``, ``duration``...)."""
+
+    name: Name
+    kind: Name
+    default: Value | None = None
+
+
+@dataclass(frozen=True)
+class BehaviorDecl(Node):
+    """``behavior NAME(PARAMETERS) { MACHINE }``: a reusable sub-machine whose finals are
+    its outcomes."""
+
+    name: Name
+    parameters: tuple[BehaviorParam, ...]
+    machine: Machine
+
+
+Item = Union[MissionHeader, LibraryHeader, Import, Let, BehaviorDecl, WorldDecl,
+             ControllerDecl, TaskDecl, ConstraintDecl, EventDecl, StartDecl, StateDecl,
+             Transition]
 
 
 @dataclass(frozen=True)
@@ -339,6 +452,17 @@ class Mission(Node):
     def guards(self) -> list[Transition]:
         """The top-level ``when`` clauses, checked in every state after its own."""
         return self.of_type(Transition)
+
+    @property
+    def machine(self) -> Machine:
+        """The mission's own state machine: its top-level states, start and guards."""
+        return Machine(tuple(i for i in self.items
+                             if isinstance(i, (StateDecl, StartDecl, Transition))),
+                       span=self.span)
+
+    @property
+    def behaviors(self) -> list[BehaviorDecl]:
+        return self.of_type(BehaviorDecl)
 
     def first(self, kind: type):
         """The first item of ``kind``, or ``None``."""
