@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import difflib
 import json
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Iterable, Sequence
 
@@ -19,16 +19,22 @@ WARNING = "warning"
 
 @dataclass(frozen=True)
 class Span:
-    """A region of a source file: 1-based lines and columns, end column exclusive."""
+    """A region of a source file: 1-based lines and columns, end column exclusive.
+    ``file`` names the file when it is not the one being checked (an imported file)."""
 
     line: int
     column: int
     end_line: int
     end_column: int
+    file: str | None = field(default=None, compare=False)
 
     @classmethod
     def point(cls, line: int, column: int = 1, width: int = 1) -> "Span":
         return cls(line, column, line, column + max(width, 1))
+
+    def location(self, default: str) -> str:
+        """``FILE:LINE:COL``, with ``default`` as the file when the span names none."""
+        return f"{self.file or default}:{self.line}:{self.column}"
 
 
 @dataclass(frozen=True)
@@ -47,14 +53,15 @@ class SourceFile:
         return lines[number - 1] if 0 < number <= len(lines) else ""
 
     def error(self, code: str, message: str, span: Span | None, hint: str | None = None,
-              severity: str = ERROR) -> "Diagnostic":
+              severity: str = ERROR, notes: tuple[str, ...] = ()) -> "Diagnostic":
         """Build a diagnostic located in this file."""
         source_line = self.line(span.line) if span else ""
-        return Diagnostic(code, message, self.path, span, severity, hint, source_line)
+        return Diagnostic(code, message, self.path, span, severity, hint, source_line,
+                          notes)
 
     def warning(self, code: str, message: str, span: Span | None,
-                hint: str | None = None) -> "Diagnostic":
-        return self.error(code, message, span, hint, WARNING)
+                hint: str | None = None, notes: tuple[str, ...] = ()) -> "Diagnostic":
+        return self.error(code, message, span, hint, WARNING, notes)
 
 
 @dataclass(frozen=True)
@@ -68,6 +75,7 @@ class Diagnostic:
     severity: str = ERROR
     hint: str | None = None
     source_line: str = ""
+    notes: tuple[str, ...] = ()
 
     @property
     def is_error(self) -> bool:
@@ -97,11 +105,14 @@ class Diagnostic:
             lines.append(f" {gutter} | {' ' * start}{'^' * (end - start)}")
         if self.hint:
             lines.append(f"   = hint: {self.hint}")
+        lines += [f"   = note: {note}" for note in self.notes]
         return "\n".join(lines)
 
     def to_json(self) -> dict:
         data = asdict(self)
-        data["span"] = asdict(self.span) if self.span else None
+        data["span"] = ({k: v for k, v in asdict(self.span).items() if k != "file"}
+                        if self.span else None)
+        data["notes"] = list(self.notes)
         return data
 
     def to_github(self) -> str:
@@ -113,6 +124,7 @@ class Diagnostic:
                       f"endLine={self.span.end_line}", f"endColumn={self.span.end_column}"]
         props.append(f"title={self.code}")
         message = self.message + (f" (hint: {self.hint})" if self.hint else "")
+        message += "".join(f" (note: {note})" for note in self.notes)
         escaped = message.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
         return f"::{kind} {','.join(props)}::{escaped}"
 
@@ -149,6 +161,18 @@ def render_all(diagnostics: Sequence[Diagnostic], fmt: str = "text") -> str:
     if fmt == "github":
         return "\n".join(d.to_github() for d in diagnostics)
     return "\n\n".join(d.render() for d in diagnostics)
+
+
+def unique(diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:
+    """``diagnostics`` without repeats of one message at one place (a problem inside a
+    behaviour exposed by several instances is reported once, with the first's note)."""
+    seen, kept = set(), []
+    for diagnostic in diagnostics:
+        key = (diagnostic.file, diagnostic.span, diagnostic.code, diagnostic.message)
+        if key not in seen:
+            seen.add(key)
+            kept.append(diagnostic)
+    return kept
 
 
 def sort_key(diagnostic: Diagnostic) -> tuple:

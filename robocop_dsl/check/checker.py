@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import networkx as nx
 
 from ..diagnostics import SourceFile
@@ -9,34 +11,57 @@ from ..lang import ast
 from .context import CheckContext
 from .controllers import check_assignment
 from .declarations import check_controller, check_declarations, check_header, collect_symbols
+from .expand import Expander
 from .graph_checks import check_state_graph
-from .states import check_start, check_states, start_state
+from .imports import merge_imports
+from .regions import check_regions
+from .states import check_machine, check_machines
 
 
-def check_mission(mission: ast.Mission, source: SourceFile, world=None) -> CheckContext:
-    """Check names, types, parameters, units, targets, states and actions.
+def check_mission(mission: ast.Mission, source: SourceFile, world=None,
+                  folder: Path | None = None) -> CheckContext:
+    """Check names, types, parameters, units, targets, machines and actions.
 
     ``world`` is the loaded :class:`~robocop_dsl.world.World`, or ``None`` when it could
-    not be loaded (checks that need its names are then skipped). The returned context
-    holds the diagnostics and the mission's symbols, for :func:`check_graph`.
+    not be loaded (checks that need its names are then skipped); ``folder`` is where
+    imports are looked up first. The returned context holds the diagnostics, the
+    mission's symbols and its expanded tree (imports merged, constants bound, behaviour
+    instances expanded), for :func:`check_graph` and the compiler.
     """
     ctx = CheckContext(source, world)
-    collect_symbols(ctx, mission)
+    merged = merge_imports(ctx, mission, folder)
+    collect_symbols(ctx, merged)
     check_header(ctx, mission)
-    check_controller(ctx, mission)
-    check_declarations(ctx, mission)
-    check_assignment(ctx, mission)
-    check_start(ctx, mission)
-    check_states(ctx, mission)
-    ctx.expanded = mission
+    check_controller(ctx, merged)
+    expander = Expander(ctx, merged)
+    expanded = expander.mission(merged)
+    ctx.all_states = state_names(expanded.machine)
+    check_declarations(ctx, expanded)
+    check_assignment(ctx, expanded)
+    check_machines(ctx, expanded)
+    check_regions(ctx, expanded.machine)
+    own = {b.name.text for b in mission.behaviors}
+    for machine, generic in expander.unused_behaviors(merged, own):
+        ctx.generic = generic
+        ctx.all_states = state_names(machine)
+        check_machine(ctx, machine, ())
+        check_regions(ctx, machine)
+    ctx.generic = frozenset()
+    ctx.expanded = expanded
     return ctx
+
+
+def state_names(machine: ast.Machine) -> set[str]:
+    """Every state name of a machine, at any depth."""
+    names = set()
+    for state in machine.states:
+        names.add(state.name.text)
+        for region in state.regions:
+            if region.machine is not None:
+                names |= state_names(region.machine)
+    return names
 
 
 def check_graph(ctx: CheckContext, mission: ast.Mission, graph: nx.DiGraph) -> None:
     """Add the state-graph checks (reachability, shadowed clauses...) to ``ctx``."""
     check_state_graph(ctx, mission, graph)
-
-
-def first_state(ctx: CheckContext, mission: ast.Mission) -> str | None:
-    """The state the mission starts in, if it is a declared state."""
-    return start_state(ctx, mission)

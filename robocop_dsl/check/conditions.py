@@ -5,13 +5,16 @@ from __future__ import annotations
 from ..lang import ast
 from ..lang.catalogue import (GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE, ORIENTATION_SPACE,
                               POSE_SPACE, POSITION, POSITION_SPACE, TWIST_SPACE, VELOCITY)
-from ..lang.units import ANGLE, ANGULAR_VELOCITY, LENGTH, LINEAR_VELOCITY, TIME
+from ..lang.units import ANGLE, ANGULAR_VELOCITY, DIMENSIONLESS, LENGTH, LINEAR_VELOCITY, TIME
 from .context import CheckContext
 from .declarations import subject_of
 from .parameters import check_body
 from .values import check_quantity, space_dimensions
 
 CONTROLLER = "controller"
+DONE = "done"
+VISITS = "visits"
+STATE_FIELDS = (DONE, VISITS)
 TASK_FLAGS = ("reached",)
 CONTROLLER_FLAGS = ("failed",)
 TASK_MEASURES = ("error", "position_error", "orientation_error")
@@ -32,7 +35,7 @@ def check_condition(ctx: CheckContext, condition: ast.Condition) -> None:
         check_condition(ctx, condition.operand)
     elif isinstance(condition, ast.EventCondition):
         name = condition.event.text
-        if name not in ctx.symbols.events:
+        if name not in ctx.symbols.events and name not in ctx.generic:
             ctx.unknown("unknown-event", "event", condition.event, ctx.symbols.events,
                         f"no action emits it: add 'emit {name}' to a state, or declare "
                         f"'event {name}' when it comes from outside the mission")
@@ -58,6 +61,8 @@ def _owner(ctx: CheckContext, member: ast.Member):
     name = member.owner.text
     if name in ctx.symbols.tasks:
         return ctx.symbols.tasks[name]
+    if name in ctx.generic:
+        return None
     if name in ctx.symbols.constraints:
         ctx.error("wrong-kind", f"'{name}' is a constraint: it has no '{member.field.text}'",
                   member.owner.span, "conditions read tasks (X.reached, X.error) "
@@ -68,8 +73,85 @@ def _owner(ctx: CheckContext, member: ast.Member):
     return None
 
 
+def scoped_state(ctx: CheckContext, member: ast.Member) -> ast.StateDecl | None:
+    """The state a member reads (``S.FINAL``, ``S.done``, ``S.REGION.FINAL``,
+    ``S.visits``), ``None`` when it reads a task or the controller."""
+    name = member.owner.text
+    for machine in ctx.scope:
+        if name in machine:
+            state = machine[name]
+            if name not in ctx.symbols.tasks or member.region is not None \
+                    or member.field.text in STATE_FIELDS:
+                return state
+            return None
+    return None
+
+
+def _finals(machine: ast.Machine) -> list[str]:
+    return [s.name.text for s in machine.states if s.final]
+
+
+def _check_state_flag(ctx: CheckContext, member: ast.Member, state: ast.StateDecl) -> None:
+    owner, field = member.owner.text, member.field.text
+    if field == VISITS:
+        ctx.error("wrong-condition", f"'{owner}.visits' is a count, not true or false",
+                  member.span, f"compare it: {owner}.visits < 3")
+        return
+    if field == DONE:
+        if not state.parallel:
+            ctx.error("not-a-machine", f"'{owner}' is not a parallel state: it has no "
+                      "'done'", member.field.span, _machine_hint(owner, state))
+        return
+    if member.region is not None:
+        regions = {r.name.text: r for r in state.regions if r.name is not None}
+        if not state.parallel:
+            ctx.error("not-a-machine", f"'{owner}' is not a parallel state: it has no "
+                      "regions", member.region.span, _machine_hint(owner, state))
+            return
+        region = regions.get(member.region.text)
+        if region is None:
+            ctx.unknown("unknown-region", "region", member.region, regions,
+                        f"regions of '{owner}': " + ", ".join(regions),
+                        where=f" of '{owner}'")
+            return
+        _check_final_name(ctx, member, region.machine, f"region '{member.region.text}' of "
+                          f"'{owner}'")
+        return
+    if not state.regions:
+        ctx.error("not-a-machine", f"'{owner}' has no machine: '{owner}.{field}' names a "
+                  "final of a compound state or a behaviour instance", member.span,
+                  "nest states in it, or instantiate a behaviour: state S: BEHAVIOR(...)")
+        return
+    if state.parallel:
+        ctx.error("not-a-machine", f"'{owner}' is a parallel state: name the region",
+                  member.field.span, f"{owner}.REGION.{field}, or {owner}.done when every "
+                  "region has finished")
+        return
+    _check_final_name(ctx, member, state.regions[0].machine, f"'{owner}'")
+
+
+def _check_final_name(ctx: CheckContext, member: ast.Member, machine: ast.Machine | None,
+                      what: str) -> None:
+    if machine is None:
+        return
+    finals = _finals(machine)
+    if member.field.text not in finals:
+        ctx.unknown("unknown-final", "final", member.field, finals,
+                    f"finals of {what}: " + (", ".join(finals) or "none"), where=f" of {what}")
+
+
+def _machine_hint(owner: str, state: ast.StateDecl) -> str:
+    if state.regions:
+        return f"name one of its finals: {owner}.FINAL"
+    return "S.done and S.REGION.FINAL read a parallel state"
+
+
 def _check_flag(ctx: CheckContext, member: ast.Member) -> None:
     field = member.field.text
+    state = scoped_state(ctx, member)
+    if state is not None:
+        _check_state_flag(ctx, member, state)
+        return
     if member.owner.text == CONTROLLER:
         if field not in CONTROLLER_FLAGS:
             ctx.unknown("unknown-field", "field", member.field, CONTROLLER_FLAGS,
@@ -95,6 +177,14 @@ def measure_dimensions(ctx: CheckContext, measure: ast.Measure) -> tuple[str, ..
         known = [check_body(ctx, name) for name in (measure.first, measure.second)]
         return (LENGTH,) if all(known) else None
     field = measure.field.text
+    state = scoped_state(ctx, measure)
+    if state is not None:
+        if field == VISITS:
+            return (DIMENSIONLESS,)
+        ctx.error("wrong-condition", f"'{measure.owner.text}.{field}' is true or false, "
+                  "it cannot be compared", measure.span,
+                  f"use it alone: when {measure.owner.text}.{field} -> ...")
+        return None
     if measure.owner.text == CONTROLLER or field in TASK_FLAGS:
         if measure.owner.text == CONTROLLER and field not in CONTROLLER_FLAGS:
             ctx.unknown("unknown-field", "field", measure.field, CONTROLLER_FLAGS,

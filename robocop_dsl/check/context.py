@@ -139,20 +139,47 @@ class Symbols:
 
 
 class CheckContext:
-    """Collects diagnostics for one mission file."""
+    """Collects diagnostics for one mission file and the files it imports.
+
+    ``notes`` name the behaviour instances being checked (each diagnostic gets them);
+    ``generic`` holds the parameter names of a behaviour checked on its own, which
+    stand for any value of their kind. ``scope`` is the chain of machines (local state
+    name to declaration, innermost first) whose states the clause being checked may
+    read; ``all_states`` every state name of the mission at any depth. ``expanded`` is the mission with constants and
+    behaviour instances bound, once checked.
+    """
 
     def __init__(self, source: SourceFile, world=None):
         self.source = source
+        self.sources = {source.path: source}
         self.world = WorldNames(world)
         self.symbols = Symbols()
         self.diagnostics: list[Diagnostic] = []
+        self.notes: tuple[str, ...] = ()
+        self.generic: frozenset[str] = frozenset()
+        self.scope: tuple = ()
+        self.all_states: set[str] = set()
         self.expanded = ast.Mission()
 
+    def source_of(self, span: Span | None) -> SourceFile:
+        """The file a span is in."""
+        if span is not None and span.file is not None:
+            return self.sources.get(span.file, self.source)
+        return self.source
+
+    def where(self, span: Span) -> str:
+        """``line N`` in the file being checked, ``FILE:LINE`` in another."""
+        if span.file is None or span.file == self.source.path:
+            return f"line {span.line}"
+        return f"{span.file}:{span.line}"
+
     def error(self, code: str, message: str, span: Span | None, hint: str | None = None):
-        self.diagnostics.append(self.source.error(code, message, _located(span), hint))
+        self.diagnostics.append(self.source_of(span).error(code, message, _located(span),
+                                                           hint, notes=self.notes))
 
     def warning(self, code: str, message: str, span: Span | None, hint: str | None = None):
-        self.diagnostics.append(self.source.warning(code, message, _located(span), hint))
+        self.diagnostics.append(self.source_of(span).warning(code, message, _located(span),
+                                                             hint, notes=self.notes))
 
     def unknown(self, code: str, what: str, name: ast.Name, candidates, extra: str = "",
                 where: str = ""):

@@ -9,7 +9,8 @@ from .context import CheckContext
 from .controllers import cascade_controllers
 from .parameters import Subject, check_body, check_parameters
 
-_SINGLE = ((ast.MissionHeader, "mission header"), (ast.WorldDecl, "world"),
+_SINGLE = ((ast.MissionHeader, "mission header"), (ast.LibraryHeader, "library header"),
+           (ast.WorldDecl, "world"),
            (ast.ControllerDecl, "controller"), (ast.StartDecl, "start"))
 
 
@@ -31,19 +32,36 @@ def collect_symbols(ctx: CheckContext, mission: ast.Mission) -> None:
         table = symbols.tasks if isinstance(decl, ast.TaskDecl) else symbols.constraints
         table[decl.name.text] = decl
     for state in mission.states:
-        first = symbols.states.get(state.name.text)
-        if first is not None:
-            _duplicate(ctx, "state", state.name, first.name)
+        symbols.states.setdefault(state.name.text, state)
+    machines = [mission.machine] + [b.machine for b in mission.behaviors]
+    symbols.events.update(e.text for m in machines for e in emitted(m))
+    for name in set(symbols.tasks) | set(symbols.constraints):
+        if name in declared:
+            ctx.error("duplicate-name", f"event '{name}' has the name of a task or "
+                      "constraint", declared[name].span, "give it a name of its own")
+
+
+def emitted(machine: ast.Machine) -> list[ast.Name]:
+    """The events that ``emit`` actions of a machine raise, at any depth."""
+    found = []
+    for item in machine.items:
+        if isinstance(item, ast.Transition):
+            found += [a.event for a in item.actions if isinstance(a, ast.Emit)]
             continue
-        symbols.states[state.name.text] = state
-        for block in state.blocks:
-            symbols.events.update(a.event.text for a in block.actions
-                                  if isinstance(a, ast.Emit))
+        if not isinstance(item, ast.StateDecl):
+            continue
+        for part in item.parts:
+            actions = part.actions
+            found += [a.event for a in actions if isinstance(a, ast.Emit)]
+        for region in item.regions:
+            if region.machine is not None:
+                found += emitted(region.machine)
+    return found
 
 
 def _duplicate(ctx: CheckContext, what: str, name: ast.Name, first: ast.Name) -> None:
     ctx.error("duplicate-name", f"{what} '{name.text}' is already declared", name.span,
-              f"first declared at line {first.span.line}")
+              f"first declared at {ctx.where(first.span)}")
 
 
 def check_header(ctx: CheckContext, mission: ast.Mission) -> None:
@@ -53,6 +71,8 @@ def check_header(ctx: CheckContext, mission: ast.Mission) -> None:
         for extra in items[1:]:
             ctx.error("duplicate-declaration", f"a second {what} declaration", extra.span,
                       f"the first is at line {items[0].span.line}")
+    if mission.first(ast.LibraryHeader) is not None:
+        return
     if mission.first(ast.MissionHeader) is None:
         ctx.error("missing-declaration", "the file does not start with a mission header",
                   _first_line(mission), "begin with: mission NAME \"what it does\"")

@@ -1,53 +1,149 @@
-"""Checks on the state graph: reachability, ways out, shadowed clauses, enabled tasks.
+"""Checks on the state graph, machine by machine: reachability, ways out, outcomes the
+parent never handles, shadowed clauses, enabled tasks.
 
 Severities: a mission that can never finish (no final state reachable from the start, or
-a reachable state with no clause at all) is an error; dead code and probable mistakes
-(an unreachable state, a state that can only loop, a clause that never fires, a task read
-before any state enables it) are warnings.
+a reachable state with no clause at all, in the mission's own machine) is an error, and
+so is a parallel state whose ``done`` is read but can never hold; dead code and probable
+mistakes (an unreachable state, a state that can only loop, a nested machine with no
+final, a final that no clause of the parent reads, a clause that never fires, a task
+read before any state enables it) are warnings.
 """
 
 from __future__ import annotations
 
 import networkx as nx
 
+from ..compile.state_graph import MachineInfo, machine_graph
 from ..lang import ast
 from .conditions import tasks_read
 from .context import CheckContext
+from .enabled import may_be_enabled
 
 _NON_NEGATIVE = (ast.Elapsed, ast.Time, ast.Distance, ast.Member)
 
 
 def check_state_graph(ctx: CheckContext, mission: ast.Mission, graph: nx.DiGraph) -> None:
-    """Run every graph check on ``graph`` (built from ``mission``)."""
-    start = graph.graph.get("start")
-    if start is None or start not in graph:
+    """Run every graph check on ``graph`` (built from the expanded ``mission``)."""
+    decls = declarations(mission.machine)
+    for info in graph.graph["machines"].values():
+        _check_machine(ctx, graph, info, decls)
+    _check_shadowed(ctx, decls, mission.machine)
+    if graph.graph["machines"].get(""):
+        _check_enabled(ctx, graph, decls)
+
+
+def declarations(machine: ast.Machine, path: str = "") -> dict:
+    """Every state declaration by path (the graph's paths), and every machine by
+    ``("machine", path)``."""
+    found: dict = {("machine", path): machine}
+    for state in machine.states:
+        state_path = f"{path}/{state.name.text}" if path else state.name.text
+        found.setdefault(state_path, state)
+        for region in state.regions:
+            inner = f"{state_path}/{region.name.text}" if region.name else state_path
+            if region.machine is not None:
+                for key, value in declarations(region.machine, inner).items():
+                    found.setdefault(key, value)
+    return found
+
+
+def _check_machine(ctx: CheckContext, graph: nx.DiGraph, info: MachineInfo,
+                   decls: dict) -> None:
+    start = info.start
+    if start is None:
         return
-    reachable = nx.descendants(graph, start) | {start}
-    states = ctx.symbols.states
-    for name in graph.nodes:
-        if name not in reachable:
-            ctx.warning("unreachable-state", f"state '{name}' cannot be reached from "
-                        f"'{start}'", states[name].name.span,
+    root = info.owner is None
+    sub = machine_graph(graph, info.path)
+    reachable = nx.descendants(sub, start) | {start}
+    for path in info.states:
+        if path not in reachable:
+            ctx.warning("unreachable-state", f"state '{graph.nodes[path]['name']}' cannot be "
+                        f"reached from '{graph.nodes[start]['name']}'",
+                        graph.nodes[path]["span"],
                         "no clause leads to it: remove it or add a 'when ... ->' to it")
-    finals = {n for n in graph.nodes if graph.nodes[n]["final"]}
+    finals = {p for p in info.states if graph.nodes[p]["final"]}
     if not finals & reachable:
-        ctx.error("no-final-reachable", f"no final state can be reached from '{start}'",
-                  states[start].name.span, "the mission would never end: add a path to a "
-                  "'final NAME' state" if finals else "declare one: final done")
+        report = ctx.error if root else ctx.warning
+        where = "" if root else f" in the machine of '{graph.nodes[info.owner]['name']}'"
+        report("no-final-reachable", f"no final state can be reached from "
+               f"'{graph.nodes[start]['name']}'{where}", graph.nodes[start]["span"],
+               ("the mission would never end: add a path to a 'final NAME' state" if root
+                else "only its parent's clauses can leave it: add a final its parent reads")
+               if finals else "declare one: final done")
+    if root:
+        _check_ways_out(ctx, sub, reachable, finals)
+    else:
+        _check_outcomes(ctx, graph, info, decls, finals & reachable)
+        _check_done(ctx, graph, info, decls, finals & reachable)
+
+
+def _check_ways_out(ctx, sub: nx.DiGraph, reachable: set, finals: set) -> None:
     ending = set(finals)
     for final in finals:
-        ending |= nx.ancestors(graph, final)
-    for name in sorted(reachable - finals, key=lambda n: states[n].span.line):
-        if graph.out_degree(name) == 0:
-            ctx.error("dead-end-state", f"state '{name}' has no way out",
-                      states[name].name.span,
+        ending |= nx.ancestors(sub, final)
+    for path in sorted(reachable - finals, key=lambda p: sub.nodes[p]["span"].line):
+        name, span = sub.nodes[path]["name"], sub.nodes[path]["span"]
+        if sub.out_degree(path) == 0:
+            ctx.error("dead-end-state", f"state '{name}' has no way out", span,
                       "add a 'when CONDITION -> STATE' clause or make it 'final'")
-        elif finals & reachable and name not in ending:
+        elif finals & reachable and path not in ending:
             ctx.warning("no-way-to-final", f"from state '{name}' no final state can be "
-                        "reached", states[name].name.span,
-                        "its clauses only lead to states that loop among themselves")
-    _check_shadowed(ctx, mission)
-    _check_enabled(ctx, mission, graph, reachable)
+                        "reached", span, "its clauses only lead to states that loop among "
+                        "themselves")
+
+
+def _parent_reads(graph: nx.DiGraph, info: MachineInfo, decls: dict) -> list[ast.Member]:
+    """The members of the owner state's own clauses and its machine's guards that read
+    the owner (``S.F``, ``S.R.F``, ``S.done``)."""
+    owner = decls[info.owner]
+    parent_machine = decls[("machine", graph.nodes[info.owner]["machine"])]
+    members = []
+    for transition in (*owner.transitions, *parent_machine.guards):
+        members += [m for m in members_of(transition.condition)
+                    if m.owner.text == owner.name.text]
+    return members
+
+
+def members_of(condition: ast.Condition) -> list[ast.Member]:
+    if isinstance(condition, (ast.And, ast.Or)):
+        return [m for c in condition.operands for m in members_of(c)]
+    if isinstance(condition, ast.Not):
+        return members_of(condition.operand)
+    if isinstance(condition, ast.Comparison):
+        return members_of(condition.measure) if isinstance(condition.measure, ast.Member) \
+            else []
+    return [condition] if isinstance(condition, ast.Member) else []
+
+
+def _check_outcomes(ctx, graph: nx.DiGraph, info: MachineInfo, decls: dict,
+                    finals: set) -> None:
+    reads = _parent_reads(graph, info, decls)
+    owner = graph.nodes[info.owner]["name"]
+    for path in sorted(finals, key=lambda p: graph.nodes[p]["span"].line):
+        name = graph.nodes[path]["name"]
+        handled = any((m.field.text == name and _region_of(m) == info.region)
+                      or (info.region is not None and m.field.text == "done")
+                      for m in reads)
+        if not handled:
+            read = f"{owner}.{info.region}.{name}" if info.region else f"{owner}.{name}"
+            ctx.warning("unhandled-outcome", f"no clause of '{owner}' reads its outcome "
+                        f"'{name}': the machine would stay there", graph.nodes[path]["span"],
+                        f"add to '{owner}': when {read} -> NEXT")
+
+
+def _region_of(member: ast.Member) -> str | None:
+    return member.region.text if member.region else None
+
+
+def _check_done(ctx, graph: nx.DiGraph, info: MachineInfo, decls: dict, finals: set) -> None:
+    if info.region is None or finals:
+        return
+    owner = graph.nodes[info.owner]["name"]
+    for member in _parent_reads(graph, info, decls):
+        if member.field.text == "done" and member.region is None:
+            ctx.error("done-never-holds", f"'{owner}.done' can never hold: region "
+                      f"'{info.region}' cannot reach a final state", member.span,
+                      f"add a final to region '{info.region}' and a way to it")
 
 
 # ---- clauses that can never fire -----------------------------------------------
@@ -72,77 +168,53 @@ def truth(condition: ast.Condition) -> bool | None:
     return None
 
 
-def _check_shadowed(ctx: CheckContext, mission: ast.Mission) -> None:
-    for state in ctx.symbols.states.values():
-        if not state.final:
-            _report_after_always(ctx, state.transitions,
-                                 f"in state '{state.name.text}'")
-    _report_after_always(ctx, tuple(mission.guards), "among the top-level clauses")
-    for transition in [t for s in ctx.symbols.states.values() for t in s.transitions] \
-            + list(mission.guards):
+def _check_shadowed(ctx: CheckContext, decls: dict, root: ast.Machine) -> None:
+    transitions = []
+    for key, decl in decls.items():
+        if isinstance(decl, ast.StateDecl) and not decl.final:
+            _report_after_always(ctx, decl.transitions, f"in state '{decl.name.text}'")
+            transitions += decl.transitions
+        elif isinstance(decl, ast.Machine) and isinstance(key, tuple):
+            where = "among the top-level clauses" if decl is root else \
+                "among the machine's top-level clauses"
+            _report_after_always(ctx, tuple(decl.guards), where)
+            transitions += decl.guards
+    for transition in dict.fromkeys(transitions):
         if truth(transition.condition) is False:
             ctx.warning("shadowed-transition", "this clause never fires: its condition is "
                         "never true", transition.span)
 
 
 def _report_after_always(ctx: CheckContext, transitions, where: str) -> None:
+    transitions = tuple(transitions)
     always = next((t for t in transitions if truth(t.condition) is True), None)
     if always is None:
         return
     for transition in transitions[transitions.index(always) + 1:]:
         ctx.warning("shadowed-transition", f"this clause never fires {where}: the clause "
-                    f"at line {always.span.line} is always true and is checked first",
+                    f"at {ctx.where(always.span)} is always true and is checked first",
                     transition.span, "move it before the always-true clause or remove it")
 
 
 # ---- tasks read before they are enabled ------------------------------------------
 
-def _apply(blocks, enabled: frozenset[str]) -> frozenset[str]:
-    result = set(enabled)
-    for block in blocks:
-        for action in block.actions if block else ():
-            if isinstance(action, ast.Enable):
-                result.update(n.text for n in action.names)
-            elif isinstance(action, ast.Disable):
-                result.difference_update(n.text for n in action.names)
-    return frozenset(result)
-
-
-def may_be_enabled(ctx: CheckContext, graph: nx.DiGraph) -> dict[str, frozenset[str]]:
-    """Per state: what may be enabled while its clauses are checked (on some path)."""
-    states = ctx.symbols.states
-    start = graph.graph["start"]
-    arriving: dict[str, frozenset[str]] = {n: frozenset() for n in graph.nodes}
-    arriving[start] = frozenset(ctx.symbols.constraints)
-    inside: dict[str, frozenset[str]] = {}
-    pending = [start]
-    while pending:
-        name = pending.pop()
-        state = states[name]
-        inside[name] = _apply((state.block("enter"), state.block("during")), arriving[name])
-        leaving = _apply((state.block("exit"),), inside[name])
-        for successor in graph.successors(name):
-            merged = arriving[successor] | leaving
-            if merged != arriving[successor] or successor not in inside:
-                arriving[successor] = merged
-                pending.append(successor)
-    return inside
-
-
-def _check_enabled(ctx: CheckContext, mission: ast.Mission, graph: nx.DiGraph,
-                   reachable: set[str]) -> None:
-    inside = may_be_enabled(ctx, graph)
-    for name in sorted(reachable, key=lambda n: ctx.symbols.states[n].span.line):
-        for transition in ctx.symbols.states[name].transitions:
+def _check_enabled(ctx: CheckContext, graph: nx.DiGraph, decls: dict) -> None:
+    inside = may_be_enabled(ctx, graph, decls)
+    for path in sorted(inside, key=lambda p: graph.nodes[p]["span"].line):
+        state = decls[path]
+        for transition in state.transitions:
             for task in tasks_read(transition.condition):
-                if task.text in ctx.symbols.tasks and task.text not in inside[name]:
+                if task.text in ctx.symbols.tasks and task.text not in inside[path]:
                     ctx.warning("task-never-enabled", f"task '{task.text}' is read in state "
-                                f"'{name}' but no path to it enables it", task.span,
-                                f"add 'enable {task.text}' to an enter block on the way")
-    anywhere = frozenset().union(*(inside[n] for n in reachable if n in inside))
-    for guard in mission.guards:
-        for task in tasks_read(guard.condition):
-            if task.text in ctx.symbols.tasks and task.text not in anywhere:
-                ctx.warning("task-never-enabled", f"task '{task.text}' is read by a top-level "
-                            "clause but no state enables it", task.span,
-                            f"add 'enable {task.text}' to an enter block")
+                                f"'{state.name.text}' but no path to it enables it",
+                                task.span, f"add 'enable {task.text}' to an enter block on "
+                                "the way")
+    for info in graph.graph["machines"].values():
+        machine = decls[("machine", info.path)]
+        anywhere = frozenset().union(*(inside[p] for p in info.states if p in inside))
+        for guard in machine.guards:
+            for task in tasks_read(guard.condition):
+                if task.text in ctx.symbols.tasks and task.text not in anywhere:
+                    ctx.warning("task-never-enabled", f"task '{task.text}' is read by a "
+                                "top-level clause but no state enables it", task.span,
+                                f"add 'enable {task.text}' to an enter block")

@@ -74,7 +74,7 @@ def check_body_value(ctx: CheckContext, value: ast.Value, what: str) -> None:
 
 def check_body(ctx: CheckContext, name: ast.Name) -> bool:
     """Report a body the world does not have; ``True`` when it exists (or no world)."""
-    if ctx.world.has_body(name.text):
+    if ctx.world.has_body(name.text) or name.text in ctx.generic:
         return True
     ctx.unknown("unknown-body", "body", name, ctx.world.body_names())
     return False

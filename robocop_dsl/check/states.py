@@ -1,4 +1,5 @@
-"""States: the start, final states and outcomes, action blocks, actions and transitions."""
+"""Machines and their states: start, finals and outcomes, blocks, actions, clauses and
+where they lead, regions. Runs on the expanded tree (see :mod:`.expand`)."""
 
 from __future__ import annotations
 
@@ -6,79 +7,125 @@ from ..lang import ast
 from .conditions import check_condition
 from .context import CheckContext
 from .declarations import subject_of
+from .expand import instance_note
 from .parameters import check_body, check_value
 
 OUTCOMES = ("success", "failure")
 _FINAL_PARTS = ("enter",)
+DONE = "done"
 
 
-def start_state(ctx: CheckContext, mission: ast.Mission) -> str | None:
-    """The start state's name: the one named by ``start``, else the first declared."""
-    declared = mission.first(ast.StartDecl)
-    if declared is None:
-        return mission.states[0].name.text if mission.states else None
-    name = declared.state.text
-    return name if name in ctx.symbols.states else None
+def check_machines(ctx: CheckContext, mission: ast.Mission) -> None:
+    """The mission's machine and every machine inside it."""
+    check_machine(ctx, mission.machine, (), root=True)
 
 
-def check_start(ctx: CheckContext, mission: ast.Mission) -> None:
-    declared = mission.first(ast.StartDecl)
+def check_machine(ctx: CheckContext, machine: ast.Machine, scope: tuple,
+                  root: bool = False) -> None:
+    """One machine: ``scope`` is the chain of enclosing machines' states (innermost
+    first), which clauses may read but never lead to."""
+    local: dict[str, ast.StateDecl] = {}
+    for state in machine.states:
+        first = local.get(state.name.text)
+        if first is not None:
+            ctx.error("duplicate-name", f"state '{state.name.text}' is already declared",
+                      state.name.span, f"first declared at {ctx.where(first.name.span)}")
+            continue
+        local[state.name.text] = state
+    scope = (local, *scope)
+    _check_start(ctx, machine, local, root)
+    for state in machine.states:
+        _check_state(ctx, state, scope, root)
+    previous = ctx.scope
+    ctx.scope = scope
+    for guard in machine.guards:
+        check_transition(ctx, guard, local)
+    ctx.scope = previous
+
+
+def _check_start(ctx: CheckContext, machine: ast.Machine, local: dict, root: bool) -> None:
+    declared = machine.start
     if declared is not None:
         name = declared.state
         kinds = (("task", ctx.symbols.tasks), ("constraint", ctx.symbols.constraints))
         other = next((kind for kind, table in kinds if name.text in table), None)
         if other is not None:
             ctx.error("start-not-state", f"start names the {other} '{name.text}', not a state",
-                      name.span, _did_you_mean_state(ctx, name))
+                      name.span, _states_hint(local))
             return
-        if name.text not in ctx.symbols.states:
-            ctx.unknown("unknown-state", "state", name, ctx.symbols.states)
+        if name.text not in local:
+            ctx.unknown("unknown-state", "state", name, local,
+                        "start names a state of its own machine")
             return
-    start = start_state(ctx, mission)
-    if start is not None and ctx.symbols.states[start].final:
-        state = ctx.symbols.states[start]
-        ctx.warning("start-is-final", f"the mission starts in the final state '{start}'",
-                    (declared.state if declared else state.name).span,
+    start = declared.state.text if declared else next(iter(local), None)
+    if start is not None and local[start].final:
+        ctx.warning("start-is-final", f"the {'mission' if root else 'machine'} starts in "
+                    f"the final state '{start}'",
+                    (declared.state if declared else local[start].name).span,
                     "it ends as soon as it starts")
 
 
-def _did_you_mean_state(ctx: CheckContext, name: ast.Name) -> str:
-    states = [n for n, s in ctx.symbols.states.items() if not s.final]
+def _states_hint(local: dict) -> str:
+    states = [n for n, s in local.items() if not s.final]
     return "states: " + ", ".join(states) if states else "declare a state first"
 
 
-def check_states(ctx: CheckContext, mission: ast.Mission) -> None:
-    """Every state's blocks and transitions, then the top-level guards."""
-    for state in mission.states:
-        _check_state(ctx, state)
-    for guard in mission.guards:
-        check_transition(ctx, guard)
-
-
-def _check_state(ctx: CheckContext, state: ast.StateDecl) -> None:
+def _check_state(ctx: CheckContext, state: ast.StateDecl, scope: tuple, root: bool) -> None:
     seen: dict[str, ast.ActionBlock] = {}
     for block in state.blocks:
         if block.kind in seen:
             ctx.error("duplicate-declaration", f"a second '{block.kind}' block in state "
                       f"'{state.name.text}'", block.span,
-                      f"the first is at line {seen[block.kind].span.line}; merge them")
+                      f"the first is at {ctx.where(seen[block.kind].span)}; merge them")
         seen.setdefault(block.kind, block)
         for action in block.actions:
             check_action(ctx, action)
     if state.final:
-        _check_final(ctx, state)
+        _check_final(ctx, state, root)
+    previous = ctx.scope
+    ctx.scope = scope
     for transition in state.transitions:
-        check_transition(ctx, transition)
+        check_transition(ctx, transition, scope[0])
+    ctx.scope = previous
+    if state.parallel and not state.regions:
+        ctx.error("missing-declaration", f"parallel state '{state.name.text}' has no region",
+                  state.name.span, "add: region NAME { ... } or region NAME: BEHAVIOR(...)")
+    for region in state.regions:
+        _check_region(ctx, region, scope)
 
 
-def _check_final(ctx: CheckContext, state: ast.StateDecl) -> None:
-    if state.outcome is not None and state.outcome.text not in OUTCOMES:
-        ctx.unknown("unknown-outcome", "outcome", state.outcome, OUTCOMES,
-                    "a final state ends in success (the default) or failure")
+def _check_region(ctx: CheckContext, region: ast.Region, scope: tuple) -> None:
+    if region.name is not None and region.name.text == DONE:
+        ctx.error("region-named-done", "a region cannot be named 'done'", region.name.span,
+                  "S.done already means: every region is in a final state")
+    if region.machine is None:
+        return
+    notes = ctx.notes
+    if region.instance is not None:
+        ctx.notes = (instance_note(ctx, region.instance), *notes)
+    check_machine(ctx, region.machine, scope)
+    ctx.notes = notes
+
+
+def _check_final(ctx: CheckContext, state: ast.StateDecl, root: bool) -> None:
+    if state.outcome is not None:
+        if not root:
+            ctx.error("nested-outcome", f"final '{state.name.text}' of a nested machine has "
+                      f"an outcome", state.outcome.span, "': failure' is only for the "
+                      "mission's own finals: a nested final is an outcome its parent's "
+                      "clauses handle")
+        elif state.outcome.text not in OUTCOMES:
+            ctx.unknown("unknown-outcome", "outcome", state.outcome, OUTCOMES,
+                        "a final state ends in success (the default) or failure")
+    if state.regions or state.instance is not None:
+        ctx.error("final-with-clauses", f"final state '{state.name.text}' has a machine "
+                  "that never runs", state.name.span, "make it a state, or move the machine "
+                  "into a state before it")
     for part in state.parts:
         if isinstance(part, ast.Transition):
             ctx.error("final-with-clauses", f"final state '{state.name.text}' has a "
-                      "'when' clause: the mission ends there", part.span,
+                      f"'when' clause: {'the mission' if root else 'its machine'} ends "
+                      "there", part.span,
                       f"make it 'state {state.name.text}' or remove the clause")
         elif part.kind not in _FINAL_PARTS:
             ctx.error("final-with-clauses", f"final state '{state.name.text}' has an "
@@ -86,18 +133,30 @@ def _check_final(ctx: CheckContext, state: ast.StateDecl) -> None:
                       "a final state may only have an 'enter' block")
 
 
-def check_transition(ctx: CheckContext, transition: ast.Transition) -> None:
+def check_transition(ctx: CheckContext, transition: ast.Transition, local: dict) -> None:
+    """A clause's condition, its actions and its target, a state of ``local``."""
     check_condition(ctx, transition.condition)
+    for action in transition.actions:
+        check_action(ctx, action)
     target = transition.target
-    if target.text not in ctx.symbols.states:
-        ctx.unknown("unknown-state", "state", target, ctx.symbols.states)
+    if target.text in local:
+        return
+    if any(target.text in machine for machine in ctx.scope[1:]) \
+            or target.text in ctx.all_states:
+        ctx.error("transition-out-of-machine", f"'{target.text}' is not a state of this "
+                  "machine: a clause leads to a state of its own machine", target.span,
+                  "leave a nested machine through a final ('final NAME') and a clause of "
+                  f"its parent state ('when S.NAME -> {target.text}')")
+        return
+    ctx.unknown("unknown-state", "state", target, local)
 
 
 def check_action(ctx: CheckContext, action: ast.Action) -> None:
-    """One action of an ``enter``/``during``/``exit`` block."""
+    """One action of an ``enter``/``during``/``exit`` block or of a transition."""
     if isinstance(action, (ast.Enable, ast.Disable)):
         for name in action.names:
-            if name.text not in ctx.symbols.tasks and name.text not in ctx.symbols.constraints:
+            if name.text not in ctx.symbols.tasks and name.text not in ctx.symbols.constraints \
+                    and name.text not in ctx.generic:
                 ctx.unknown("unknown-task", "task or constraint", name,
                             ctx.symbols.controlled())
     elif isinstance(action, ast.Reset):
@@ -105,7 +164,7 @@ def check_action(ctx: CheckContext, action: ast.Action) -> None:
             if name.text in ctx.symbols.constraints:
                 ctx.error("wrong-kind", f"'{name.text}' is a constraint: only tasks have "
                           "an interpolator to reset", name.span)
-            elif name.text not in ctx.symbols.tasks:
+            elif name.text not in ctx.symbols.tasks and name.text not in ctx.generic:
                 ctx.unknown("unknown-task", "task", name, ctx.symbols.tasks)
     elif isinstance(action, ast.Assign):
         _check_assign(ctx, action)
@@ -120,6 +179,8 @@ def check_action(ctx: CheckContext, action: ast.Action) -> None:
 
 def _check_assign(ctx: CheckContext, action: ast.Assign) -> None:
     owner = action.owner.text
+    if owner in ctx.generic:
+        return
     decl = ctx.symbols.tasks.get(owner) or ctx.symbols.constraints.get(owner)
     if decl is None:
         ctx.unknown("unknown-task", "task or constraint", action.owner,
@@ -141,5 +202,7 @@ def _check_assign(ctx: CheckContext, action: ast.Assign) -> None:
             ctx.unknown("unknown-field", "field", action.field, names, extra,
                         where=f" of {subject.kind.name} task '{owner}'"
                         if owner in ctx.symbols.tasks else f" of constraint '{owner}'")
+        return
+    if isinstance(action.value, ast.Reference) and action.value.name.text in ctx.generic:
         return
     check_value(ctx, parameter, action.value, subject, f"'{owner}.{action.field.text}'")

@@ -87,7 +87,10 @@ def check_quantity(ctx: CheckContext, quantity: ast.Quantity, dimensions: tuple[
 
 def check_vector(ctx: CheckContext, vector: ast.Vector, dimensions: tuple[str, ...], what: str,
                  length: int | None) -> tuple[float, ...] | None:
-    """A vector of ``length`` values (any when ``None``) of one of ``dimensions``, in SI."""
+    """A vector of ``length`` values (any when ``None``) of one of ``dimensions``, in SI;
+    ``None`` for a vector with a name left unbound (reported where it was bound)."""
+    if not all(isinstance(v, float) for v in vector.values):
+        return None
     unit = unit_of(ctx, vector.unit)
     if unit is False:
         return None

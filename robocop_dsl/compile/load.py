@@ -9,7 +9,7 @@ from pathlib import Path
 import networkx as nx
 
 from ..check import check_graph, check_mission
-from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, sort_key
+from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, sort_key, unique
 from ..lang import ast, parse_mission
 from ..world import World, load_world, resolve_world_path
 from .compiler import compile_mission
@@ -89,11 +89,13 @@ def check_source(text: str, path: str | Path = "<mission>", *, world: World | No
         world_path, loading = Path(world.path), []
     else:
         world_path, world, loading = _world_of(tree, source, cache or WorldCache())
-    ctx = check_mission(tree, source, world)
+    folder = Path(source.path).parent.resolve() if source.path not in ("<mission>", "<stdin>") \
+        else Path.cwd()
+    ctx = check_mission(tree, source, world, folder)
     graph = build_state_graph(ctx.expanded)
     if parsed.ok:
         check_graph(ctx, ctx.expanded, graph)
-    diagnostics = tuple(sorted([*parsed.diagnostics, *loading, *ctx.diagnostics],
+    diagnostics = tuple(sorted(unique([*parsed.diagnostics, *loading, *ctx.diagnostics]),
                                key=lambda d: (d.file != source.path, *sort_key(d))))
     compiled = None
     if not any(d.is_error for d in diagnostics) and world is not None:

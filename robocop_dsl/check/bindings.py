@@ -1,0 +1,138 @@
+"""Substitute constants (``let``) and behaviour parameters where they are used.
+
+A binding stands for a name (a task, constraint, body, joint group or event: the
+argument's name replaces the parameter's wherever a name of that kind is read) or for a
+value (a quantity, vector, body, offset, pose). A value takes the place of a bare name
+used as a value, and inside a vector its number joins the others: the vector's own
+unit applies to its bare numbers only and every element must share one dimension, so
+the result is written in SI.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+from ..diagnostics import Span, did_you_mean
+from ..lang import ast
+from ..lang.units import DIMENSIONLESS, SI_SYMBOL, lookup
+from .context import CheckContext
+from .rewrite import at, rebuild
+
+# Fields that read a name of something declared elsewhere (never a state or a field).
+_NAME_FIELDS = {
+    ast.Enable: ("names",), ast.Disable: ("names",), ast.Reset: ("names",),
+    ast.Assign: ("owner",), ast.Member: ("owner",), ast.Attach: ("body", "parent"),
+    ast.Detach: ("body",), ast.Emit: ("event",), ast.EventCondition: ("event",),
+    ast.Offset: ("body",), ast.Distance: ("first", "second"),
+}
+
+
+@dataclass(frozen=True)
+class Binding:
+    """A constant or a behaviour parameter: ``value`` is an :class:`ast.Name` for a
+    name, else the value it stands for; ``span`` is where it was declared."""
+
+    name: str
+    value: object
+    span: Span
+
+
+def substitute(ctx: CheckContext, node, bindings: dict[str, Binding]):
+    """``node`` with every use of ``bindings`` replaced; problems are reported (a name in
+    a vector that nothing binds among them)."""
+    def visit(child):
+        if isinstance(child, ast.Reference):
+            return _value(child, bindings)
+        if isinstance(child, ast.Vector) and any(isinstance(v, ast.NameElement)
+                                                 for v in child.values):
+            return resolve_vector(ctx, child, bindings)
+        fields = _NAME_FIELDS.get(type(child))
+        if fields:
+            return _renamed(child, fields, bindings)
+        return child
+    return rebuild(node, visit)
+
+
+def _bound_name(name: ast.Name, bindings: dict[str, Binding]) -> ast.Name:
+    binding = bindings.get(name.text)
+    if binding is None:
+        return name
+    value = binding.value
+    if isinstance(value, ast.Reference):
+        value = value.name
+    return ast.Name(value.text, span=name.span) if isinstance(value, ast.Name) else name
+
+
+def _renamed(node, fields, bindings: dict[str, Binding]):
+    changes = {}
+    for field in fields:
+        value = getattr(node, field)
+        new = (tuple(_bound_name(n, bindings) for n in value) if isinstance(value, tuple)
+               else _bound_name(value, bindings))
+        if new != value:
+            changes[field] = new
+    return dataclasses.replace(node, **changes) if changes else node
+
+
+def _value(reference: ast.Reference, bindings: dict[str, Binding]):
+    binding = bindings.get(reference.name.text)
+    if binding is None:
+        return reference
+    if isinstance(binding.value, ast.Name):
+        return ast.Reference(ast.Name(binding.value.text, span=reference.name.span),
+                             span=reference.span)
+    return at(binding.value, reference.span)
+
+
+def resolve_vector(ctx: CheckContext, vector: ast.Vector,
+                   bindings: dict[str, Binding]) -> ast.Vector:
+    """A vector whose named elements are replaced by their numbers, in SI."""
+    unit = lookup(vector.unit.text) if vector.unit else None
+    scale = unit.to_si if unit else 1.0
+    dimensions = {unit.dimension} if unit else set()
+    values = []
+    for element in vector.values:
+        if not isinstance(element, ast.NameElement):
+            values.append(element * scale)
+            continue
+        number = _element(ctx, element, bindings)
+        if number is None:
+            return vector
+        value, dimension = number
+        if dimension is not None:
+            dimensions.add(dimension)
+        values.append(-value if element.negative else value)
+    if len(dimensions) > 1:
+        ctx.error("mixed-dimensions", "the elements of a vector must share one dimension, "
+                  "not " + " and ".join(sorted(dimensions)), vector.span,
+                  "a trailing unit applies to the bare numbers only")
+        return vector
+    dimension = next(iter(dimensions), None)
+    symbol = SI_SYMBOL.get(dimension) if dimension not in (None, DIMENSIONLESS) else None
+    return ast.Vector(tuple(values), ast.Name(symbol, span=vector.span) if symbol else None,
+                      span=vector.span)
+
+
+def _element(ctx: CheckContext, element: ast.NameElement, bindings: dict[str, Binding]):
+    """``(value [SI], dimension or None)`` of a name in a vector, ``None`` after
+    reporting a name that is not a number."""
+    name = element.name
+    binding = bindings.get(name.text)
+    if binding is None:
+        if name.text in ctx.generic:
+            return 0.0, None
+        numbers = [b.name for b in bindings.values() if isinstance(b.value, ast.Quantity)]
+        ctx.error("unknown-name", f"unknown constant '{name.text}'", name.span,
+                  did_you_mean(name.text, numbers) or "declare it: let NAME = VALUE")
+        return None
+    if not isinstance(binding.value, ast.Quantity):
+        ctx.error("wrong-value", f"'{name.text}' is not a number: it cannot stand in a "
+                  "vector", name.span, f"'{name.text}' is declared at "
+                  f"{ctx.where(binding.span)}")
+        return None
+    unit = lookup(binding.value.unit.text) if binding.value.unit else None
+    if binding.value.unit is not None and unit is None:
+        return None
+    return (binding.value.value * (unit.to_si if unit else 1.0),
+            unit.dimension if unit else None)

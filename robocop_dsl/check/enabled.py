@@ -1,0 +1,75 @@
+"""What may be enabled while a state's clauses are checked, on some path to it.
+
+Per machine, parents first: a machine starts with what may be enabled inside its owner
+state (the mission's with its constraints); a state adds what its ``enter`` and
+``during`` blocks enable and what any state nested in it may enable, removes what they
+disable, and hands what its ``exit`` leaves to the states its clauses lead to. A
+parallel state's regions also see what their sibling regions may enable.
+"""
+
+from __future__ import annotations
+
+import networkx as nx
+
+from ..compile.state_graph import machine_graph
+from ..lang import ast
+from .context import CheckContext
+
+
+def _apply(blocks, enabled: frozenset[str]) -> frozenset[str]:
+    result = set(enabled)
+    for block in blocks:
+        for action in block.actions if block else ():
+            if isinstance(action, ast.Enable):
+                result.update(n.text for n in action.names)
+            elif isinstance(action, ast.Disable):
+                result.difference_update(n.text for n in action.names)
+    return frozenset(result)
+
+
+def enabled_within(state: ast.StateDecl) -> frozenset[str]:
+    """Everything the states nested in ``state`` enable somewhere, at any depth."""
+    found = set()
+    for region in state.regions:
+        for inner in region.machine.states if region.machine is not None else ():
+            found |= _apply(inner.blocks, frozenset())
+            for transition in inner.transitions:
+                found |= {n.text for a in transition.actions if isinstance(a, ast.Enable)
+                          for n in a.names}
+            found |= enabled_within(inner)
+    return frozenset(found)
+
+
+def may_be_enabled(ctx: CheckContext, graph: nx.DiGraph, decls: dict) -> dict[str, frozenset]:
+    """Per state path: what may be enabled while its clauses are checked."""
+    inside: dict[str, frozenset[str]] = {}
+    for info in graph.graph["machines"].values():
+        if info.start is None:
+            continue
+        if info.owner is None:
+            initial = frozenset(ctx.symbols.constraints)
+        else:
+            initial = inside.get(info.owner, frozenset())
+            owner = decls[info.owner]
+            if owner.parallel:
+                initial |= enabled_within(owner)
+        _machine(graph, info, decls, initial, inside)
+    return inside
+
+
+def _machine(graph: nx.DiGraph, info, decls: dict, initial: frozenset, inside: dict) -> None:
+    sub = machine_graph(graph, info.path)
+    arriving: dict[str, frozenset[str]] = {p: frozenset() for p in info.states}
+    arriving[info.start] = initial
+    pending = [info.start]
+    while pending:
+        path = pending.pop()
+        state = decls[path]
+        inside[path] = _apply((state.block("enter"), state.block("during")),
+                              arriving[path]) | enabled_within(state)
+        leaving = _apply((state.block("exit"),), inside[path])
+        for successor in sub.successors(path):
+            merged = arriving[successor] | leaving
+            if merged != arriving[successor] or successor not in inside:
+                arriving[successor] = merged
+                pending.append(successor)

@@ -1,0 +1,108 @@
+"""``import "FILE"``: read, parse and merge the declarations of imported files.
+
+A file is looked up beside the file that imports it, then along the robots path. An
+imported file holds declarations only (``let``, ``task``, ``constraint``, ``event``,
+``behavior``, ``import``; a ``library`` header and a ``world``, which the importing
+mission's replaces). Each file is read once however often it is imported; a cycle of
+imports is an error at the import that closes it.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ..diagnostics import SourceFile
+from ..lang import ast, parse_mission
+from ..world.paths import resolve
+from .context import CheckContext
+from .rewrite import in_file
+
+DECLARATIONS = (ast.Let, ast.TaskDecl, ast.ConstraintDecl, ast.EventDecl, ast.BehaviorDecl)
+_NOT_IN_LIBRARY = ((ast.StateDecl, "a state"), (ast.StartDecl, "'start'"),
+                   (ast.Transition, "a top-level 'when'"), (ast.MissionHeader, "a mission header"),
+                   (ast.ControllerDecl, "a controller"))
+MAX_IMPORT_BYTES = 1 << 20
+
+
+def display_path(path: Path) -> str:
+    """``path`` relative to the working folder when it is inside it."""
+    relative = os.path.relpath(path)
+    return path.as_posix() if relative.startswith("..") else relative
+
+
+def merge_imports(ctx: CheckContext, mission: ast.Mission, folder: Path | None) -> ast.Mission:
+    """``mission`` with the declarations of every file it imports (directly or not)
+    before its own items; reports imports not found, cycles and statements that an
+    imported file may not hold."""
+    loader = _Loader(ctx)
+    own = Path(ctx.source.path).resolve() if ctx.source.path not in ("<mission>", "<stdin>") \
+        else None
+    loader.stack = [own] if own else []
+    loader.import_all(mission, folder)
+    if mission.first(ast.LibraryHeader) is not None:
+        check_library(ctx, mission)
+    return ast.Mission(tuple(loader.items) + mission.items, span=mission.span)
+
+
+def check_library(ctx: CheckContext, library: ast.Mission) -> None:
+    """Report what a file of declarations may not hold."""
+    for item in library.items:
+        for node_type, what in _NOT_IN_LIBRARY:
+            if isinstance(item, node_type):
+                ctx.error("not-in-library", f"{what} in a library: an imported file holds "
+                          "declarations only", item.span, "keep states, 'start' and "
+                          "top-level 'when' clauses in the mission that imports it")
+
+
+class _Loader:
+    def __init__(self, ctx: CheckContext):
+        self.ctx = ctx
+        self.items: list = []
+        self.loaded: set[Path] = set()
+        self.stack: list[Path] = []
+
+    def import_all(self, tree: ast.Mission, folder: Path | None) -> None:
+        for item in tree.of_type(ast.Import):
+            self.load(item, folder)
+
+    def load(self, item: ast.Import, folder: Path | None) -> None:
+        ctx, name = self.ctx, item.path.text
+        path = resolve(name, folder) if name else None
+        if path is None or not path.is_file():
+            ctx.error("import-not-found", f"imported file '{name}' not found", item.path.span,
+                      "looked beside the importing file, in the package's robots/ and in "
+                      "ROBOCOP_PATH folders")
+            return
+        path = path.resolve()
+        if path in self.stack:
+            chain = " -> ".join(p.name for p in self.stack[self.stack.index(path):] + [path])
+            ctx.error("import-cycle", f"import cycle: {chain}", item.path.span,
+                      "move the shared declarations to a file both can import")
+            return
+        if path in self.loaded:
+            return
+        self.loaded.add(path)
+        tree = self._parse(item, path)
+        if tree is None:
+            return
+        self.stack.append(path)
+        self.import_all(tree, path.parent)
+        self.stack.pop()
+        check_library(ctx, tree)
+        self.items += [i for i in tree.items if isinstance(i, DECLARATIONS)]
+
+    def _parse(self, item: ast.Import, path: Path) -> ast.Mission | None:
+        shown = display_path(path)
+        try:
+            if path.stat().st_size > MAX_IMPORT_BYTES:
+                raise OSError(f"larger than {MAX_IMPORT_BYTES} bytes")
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError, ValueError) as error:
+            self.ctx.error("import-not-found", f"cannot read imported file '{item.path.text}': "
+                           f"{getattr(error, 'strerror', None) or error}", item.path.span)
+            return None
+        parsed = parse_mission(text, shown)
+        self.ctx.sources[shown] = SourceFile(shown, text)
+        self.ctx.diagnostics += parsed.diagnostics
+        return in_file(parsed.mission, shown)
