@@ -93,7 +93,7 @@ def bind_arguments(ctx: CheckContext, instance: ast.Instance, behavior: ast.Beha
         if name in given:
             value = given[name].value
         elif parameter.default is not None:
-            value = parameter.default
+            value = substitute(ctx, parameter.default, lets)
         else:
             ctx.error("missing-argument", f"{behavior.name.text} needs the argument "
                       f"'{name}' ({parameter.kind.text})", instance.behavior.span,
@@ -179,13 +179,14 @@ def kind_of_name(ctx: CheckContext, text: str) -> str | None:
     return None
 
 
-def generic_bindings(behavior: ast.BehaviorDecl, lets: dict[str, Binding]):
+def generic_bindings(ctx: CheckContext, behavior: ast.BehaviorDecl,
+                     lets: dict[str, Binding]):
     """Bindings to check a behaviour that nothing instantiates: parameters with a default
     take it, the others stand for any value of their kind (``ctx.generic``)."""
     bindings, generic = dict(lets), set()
     for parameter in behavior.parameters:
         if parameter.default is not None:
-            value = parameter.default
+            value = substitute(ctx, parameter.default, lets)
             if parameter.kind.text in NAME_KINDS and isinstance(value, ast.Reference):
                 value = value.name
             bindings[parameter.name.text] = Binding(parameter.name.text, value, parameter.span)

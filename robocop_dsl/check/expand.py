@@ -77,7 +77,7 @@ class Expander:
         for name, behavior in self.behaviors.items():
             if name in used or name not in own or name in self.recursive:
                 continue
-            bindings, generic = generic_bindings(behavior, self.lets)
+            bindings, generic = generic_bindings(self.ctx, behavior, self.lets)
             self.ctx.generic = generic
             found.append((self.machine(behavior.machine, bindings, (name,)), generic))
             self.ctx.generic = frozenset()

@@ -210,7 +210,9 @@ def _check_enabled(ctx: CheckContext, graph: nx.DiGraph, decls: dict) -> None:
                                 task.span, f"add 'enable {task.text}' to an enter block on "
                                 "the way")
     for info in graph.graph["machines"].values():
-        machine = decls[("machine", info.path)]
+        machine = decls.get(("machine", info.path))
+        if machine is None:
+            continue
         anywhere = frozenset().union(*(inside[p] for p in info.states if p in inside))
         for guard in machine.guards:
             for task in tasks_read(guard.condition):

@@ -98,7 +98,8 @@ def check_source(text: str, path: str | Path = "<mission>", *, world: World | No
     diagnostics = tuple(sorted(unique([*parsed.diagnostics, *loading, *ctx.diagnostics]),
                                key=lambda d: (d.file != source.path, *sort_key(d))))
     compiled = None
-    if not any(d.is_error for d in diagnostics) and world is not None:
+    if not any(d.is_error for d in diagnostics) and world is not None \
+            and tree.first(ast.MissionHeader) is not None:
         compiled = compile_mission(ctx.expanded, source, world, world_path, graph)
     return CheckResult(source, diagnostics, tree, graph, world, compiled)
 
