@@ -11,7 +11,8 @@ import math
 from . import ast
 
 INDENT = "    "
-_ONE_LINERS = (ast.WorldDecl, ast.ControllerDecl, ast.EventDecl, ast.StartDecl)
+_ONE_LINERS = (ast.WorldDecl, ast.ControllerDecl, ast.EventDecl, ast.StartDecl, ast.Import,
+               ast.Let)
 
 
 def format_number(value: float) -> str:
@@ -37,14 +38,24 @@ def format_value(value: ast.Value) -> str:
     if isinstance(value, ast.Quantity):
         return format_number(value.value) + _unit(value.unit)
     if isinstance(value, ast.Vector):
-        return "[" + ", ".join(map(format_number, value.values)) + "]" + _unit(value.unit)
+        return "[" + ", ".join(map(_element, value.values)) + "]" + _unit(value.unit)
     if isinstance(value, ast.Reference):
         return value.name.text
     if isinstance(value, ast.Offset):
         return f"{value.body.text} offset {format_value(value.offset)}"
     if isinstance(value, ast.Call):
-        return f"{value.kind.text}({', '.join(map(_argument, value.arguments))})"
+        return f"{value.kind.text}({_arguments(value.arguments)})"
     return format_string(value.text)
+
+
+def _element(element: float | ast.NameElement) -> str:
+    if isinstance(element, ast.NameElement):
+        return ("-" if element.negative else "") + element.name.text
+    return format_number(element)
+
+
+def _arguments(arguments: tuple[ast.Argument, ...]) -> str:
+    return ", ".join(map(_argument, arguments))
 
 
 def _argument(argument: ast.Argument) -> str:
@@ -63,7 +74,8 @@ def _operand(condition: ast.Condition, parent: int) -> str:
 
 def format_measure(measure: ast.Measure) -> str:
     if isinstance(measure, ast.Member):
-        return f"{measure.owner.text}.{measure.field.text}"
+        region = f"{measure.region.text}." if measure.region is not None else ""
+        return f"{measure.owner.text}.{region}{measure.field.text}"
     if isinstance(measure, ast.Elapsed):
         return "elapsed"
     if isinstance(measure, ast.Time):
@@ -106,24 +118,73 @@ def format_transition(transition: ast.Transition) -> str:
     return f"when {format_condition(transition.condition)} -> {transition.target.text}"
 
 
+def _transition_lines(transition: ast.Transition) -> list[str]:
+    header = format_transition(transition)
+    if not transition.actions:
+        return [header]
+    return _block(header, [format_action(a) for a in transition.actions], 0)
+
+
 def _block(header: str, lines: list[str], depth: int) -> list[str]:
     pad = INDENT * depth
     if not lines:
         return [f"{pad}{header} {{}}"]
-    return [f"{pad}{header} {{", *(f"{pad}{INDENT}{line}" for line in lines), f"{pad}}}"]
+    body = (f"{pad}{INDENT}{line}" if line else "" for line in lines)
+    return [f"{pad}{header} {{", *body, f"{pad}}}"]
+
+
+def _part_lines(part: ast.StatePart) -> list[str]:
+    if isinstance(part, ast.ActionBlock):
+        return _block(part.kind, [format_action(a) for a in part.actions], 0)
+    return _transition_lines(part)
+
+
+def _state_body(state: ast.StateDecl, inner: list[str]) -> list[str]:
+    """The state's parts, with ``inner`` (its machine or regions) set apart by blank
+    lines after the leading blocks, so that the parts keep their order."""
+    if not inner:
+        return [line for part in state.parts for line in _part_lines(part)]
+    leading = next((i for i, p in enumerate(state.parts) if not isinstance(p, ast.ActionBlock)),
+                   len(state.parts))
+    sections = [[line for p in state.parts[:leading] for line in _part_lines(p)], inner,
+                [line for p in state.parts[leading:] for line in _part_lines(p)]]
+    return [line for section in _separated(sections) for line in section]
+
+
+def _separated(sections: list[list[str]]) -> list[list[str]]:
+    """The non-empty sections, each after the first preceded by a blank line."""
+    kept = [section for section in sections if section]
+    return kept[:1] + [["", *section] for section in kept[1:]]
+
+
+def _region_lines(region: ast.Region) -> list[str]:
+    header = f"region {region.name.text}"
+    if region.instance is not None:
+        return [f"{header}: {_instance(region.instance)}"]
+    return _block(header, _machine_lines(region.machine), 0)
+
+
+def _instance(instance: ast.Instance) -> str:
+    return f"{instance.behavior.text}({_arguments(instance.arguments)})"
 
 
 def _state_lines(state: ast.StateDecl) -> list[str]:
-    body: list[str] = []
-    for part in state.parts:
-        if isinstance(part, ast.ActionBlock):
-            body += _block(part.kind, [format_action(a) for a in part.actions], 0)
-        else:
-            body.append(format_transition(part))
     if state.final:
         header = f"final {state.name.text}" + (f": {state.outcome.text}" if state.outcome else "")
-        return _block(header, body, 0) if state.parts else [header]
-    return _block(f"state {state.name.text}", body, 0)
+        return _block(header, _state_body(state, []), 0) if state.parts else [header]
+    header = f"state {state.name.text}"
+    if state.instance is not None:
+        header += f": {_instance(state.instance)}"
+        return _block(header, _state_body(state, []), 0) if state.parts else [header]
+    if state.parallel:
+        regions = [line for region in state.regions for line in _region_lines(region)]
+        return _block(f"{header}: parallel", _state_body(state, regions), 0)
+    inner = [line for region in state.regions for line in _machine_lines(region.machine)]
+    return _block(header, _state_body(state, inner), 0)
+
+
+def _machine_lines(machine: ast.Machine) -> list[str]:
+    return _items_lines(machine.items)
 
 
 def _declaration_lines(keyword: str, decl) -> list[str]:
@@ -136,11 +197,36 @@ def _declaration_lines(keyword: str, decl) -> list[str]:
     return _block(header, lines, 0)
 
 
+def _behavior_lines(behavior: ast.BehaviorDecl) -> list[str]:
+    parameters = ", ".join(map(_behavior_param, behavior.parameters))
+    header = f"behavior {behavior.name.text}({parameters})"
+    return _block(header, _machine_lines(behavior.machine), 0)
+
+
+def _behavior_param(parameter: ast.BehaviorParam) -> str:
+    text = f"{parameter.name.text}: {parameter.kind.text}"
+    if parameter.default is not None:
+        text += f" = {format_value(parameter.default)}"
+    return text
+
+
+def _described(keyword: str, name: ast.Name, description: str | None) -> str:
+    described = f" {format_string(description)}" if description is not None else ""
+    return f"{keyword} {name.text}{described}"
+
+
 def format_item(item: ast.Item) -> list[str]:
     """The lines of one top-level item."""
     if isinstance(item, ast.MissionHeader):
-        described = f" {format_string(item.description)}" if item.description is not None else ""
-        return [f"mission {item.name.text}{described}"]
+        return [_described("mission", item.name, item.description)]
+    if isinstance(item, ast.LibraryHeader):
+        return [_described("library", item.name, item.description)]
+    if isinstance(item, ast.Import):
+        return [f"import {format_string(item.path.text)}"]
+    if isinstance(item, ast.Let):
+        return [f"let {item.name.text} = {format_value(item.value)}"]
+    if isinstance(item, ast.BehaviorDecl):
+        return _behavior_lines(item)
     if isinstance(item, ast.WorldDecl):
         return [f"world {format_string(item.path.text)}"]
     if isinstance(item, ast.ControllerDecl):
@@ -150,13 +236,12 @@ def format_item(item: ast.Item) -> list[str]:
     if isinstance(item, ast.ConstraintDecl):
         return _declaration_lines("constraint", item)
     if isinstance(item, ast.EventDecl):
-        described = f" {format_string(item.description)}" if item.description is not None else ""
-        return [f"event {item.name.text}{described}"]
+        return [_described("event", item.name, item.description)]
     if isinstance(item, ast.StartDecl):
         return [f"start {item.state.text}"]
     if isinstance(item, ast.StateDecl):
         return _state_lines(item)
-    return [format_transition(item)]
+    return _transition_lines(item)
 
 
 def _packed(previous: ast.Item, item: ast.Item) -> bool:
@@ -164,18 +249,23 @@ def _packed(previous: ast.Item, item: ast.Item) -> bool:
     if isinstance(previous, _ONE_LINERS) and isinstance(item, _ONE_LINERS):
         return True
     if isinstance(previous, ast.Transition) and isinstance(item, ast.Transition):
-        return True
+        return not previous.actions and not item.actions
     return (isinstance(previous, ast.StateDecl) and isinstance(item, ast.StateDecl)
             and previous.final and item.final and not previous.parts and not item.parts)
 
 
-def format_mission(mission: ast.Mission) -> str:
-    """The whole mission as canonical text, ending with a newline."""
+def _items_lines(items) -> list[str]:
+    """Items one after the other, with a blank line between unrelated ones."""
     lines: list[str] = []
     previous = None
-    for item in mission.items:
+    for item in items:
         if previous is not None and not _packed(previous, item):
             lines.append("")
         lines += format_item(item)
         previous = item
-    return "\n".join(lines) + "\n"
+    return lines
+
+
+def format_mission(mission: ast.Mission) -> str:
+    """The whole mission as canonical text, ending with a newline."""
+    return "\n".join(_items_lines(mission.items)) + "\n"

@@ -14,12 +14,13 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedTok
 
 from ..diagnostics import Diagnostic, SourceFile, Span
 
-# Words that start a statement are reserved everywhere, so that a misplaced one reads as
-# itself ("unexpected 'when'") rather than as a name. The others (``world`` and
-# ``controller`` among them) stay usable as names.
+# Words that start a statement (and ``parallel``) are reserved everywhere, so that a
+# misplaced one reads as itself ("unexpected 'when'") rather than as a name. The others
+# (``world`` and ``controller`` among them) stay usable as names.
 RESERVED = frozenset({
-    "mission", "constraint", "task", "start", "state", "final", "when", "enter", "during",
-    "exit", "enable", "disable", "reset", "attach", "detach", "emit", "log"})
+    "mission", "library", "import", "let", "behavior", "constraint", "task", "start",
+    "state", "final", "parallel", "region", "when", "enter", "during", "exit", "enable",
+    "disable", "reset", "attach", "detach", "emit", "log"})
 
 _SUBSTITUTES = {"COLON": "EQUAL", "EQUAL": "COLON"}
 _INSERTIONS = (("_ARROW",), ("RBRACE",), ("RPAR",), ("RSQB",), ("EQUAL",), ("COLON",),
@@ -27,10 +28,12 @@ _INSERTIONS = (("_ARROW",), ("RBRACE",), ("RPAR",), ("RSQB",), ("EQUAL",), ("COL
 _SYNC = ("_NL", "RBRACE")
 # Parsed statements that recovery never discards while looking for a place to resume.
 _COMPLETE = frozenset({
-    "mission_header", "world_decl", "controller_decl", "constraint_decl", "task_decl",
-    "start_decl", "state_decl", "final_decl", "guard", "param", "param_block",
-    "state_body", "action_block", "clause", "enable", "disable", "reset", "assign",
-    "attach", "detach", "emit", "log"})
+    "mission_header", "library_header", "import_decl", "let_decl", "world_decl",
+    "controller_decl", "constraint_decl", "task_decl", "event_decl", "behavior_decl",
+    "behavior_param", "machine_body", "start_decl", "state_decl", "instance_state",
+    "parallel_state", "final_decl", "transition", "region", "param", "param_block",
+    "state_body", "parallel_body", "part_body", "action_block", "actions", "enable",
+    "disable", "reset", "assign", "attach", "detach", "emit", "log"})
 _NAMED = {"NAME": "a name", "NUMBER": "a number", "STRING": "a string", "UNIT": "a unit",
           "_NL": "a new line", "$END": "the end of the file", "COMPARE": "a comparison",
           "_ARROW": "'->'"}

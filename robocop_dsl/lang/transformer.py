@@ -75,6 +75,22 @@ def _nodes(children, kind) -> tuple:
     return tuple(c for c in children if isinstance(c, kind))
 
 
+def _description(children) -> str | None:
+    """The optional description string of a header or declaration."""
+    strings = _tokens(children, "STRING")
+    return _string(strings[0]) if strings else None
+
+
+_PARTS = (ast.ActionBlock, ast.Transition)
+
+
+def _inline_region(items: tuple) -> ast.Region:
+    """The unnamed region of a compound state, spanning its nested items."""
+    first, last = items[0].span, items[-1].span
+    span = Span(first.line, first.column, last.end_line, last.end_column)
+    return ast.Region(None, machine=ast.Machine(items, span=span), span=span)
+
+
 @v_args(meta=True)
 class MissionBuilder(Transformer):
     """Turn a lark tree of ``mission.lark`` for ``text`` into :class:`ast.Mission`."""
@@ -91,9 +107,19 @@ class MissionBuilder(Transformer):
 
     # ---- declarations ----
     def mission_header(self, meta, children):
-        strings = _tokens(children, "STRING")
-        return ast.MissionHeader(_name(children[0]), _string(strings[0]) if strings else None,
+        return ast.MissionHeader(_name(children[0]), _description(children),
                                  span=self._span(meta))
+
+    def library_header(self, meta, children):
+        return ast.LibraryHeader(_name(children[0]), _description(children),
+                                 span=self._span(meta))
+
+    def import_decl(self, meta, children):
+        return ast.Import(ast.String(_string(children[0]), span=token_span(children[0])),
+                          span=self._span(meta))
+
+    def let_decl(self, meta, children):
+        return ast.Let(_name(children[0]), children[1], span=self._span(meta))
 
     def world_decl(self, meta, children):
         return ast.WorldDecl(ast.String(_string(children[0]), span=token_span(children[0])),
@@ -116,26 +142,7 @@ class MissionBuilder(Transformer):
         return self._declaration(ast.ConstraintDecl, meta, children)
 
     def event_decl(self, meta, children):
-        strings = _tokens(children, "STRING")
-        return ast.EventDecl(_name(children[0]), _string(strings[0]) if strings else None,
-                             span=self._span(meta))
-
-    def start_decl(self, meta, children):
-        return ast.StartDecl(_name(children[0]), span=self._span(meta))
-
-    def state_decl(self, meta, children):
-        parts = next((c for c in children if isinstance(c, list)), [])
-        return ast.StateDecl(_name(children[0]), tuple(parts), span=self._span(meta))
-
-    def final_decl(self, meta, children):
-        names = _tokens(children, "NAME")
-        parts = next((c for c in children if isinstance(c, list)), [])
-        outcome = _name(names[1]) if len(names) > 1 else None
-        return ast.StateDecl(_name(names[0]), tuple(parts), final=True, outcome=outcome,
-                             span=self._span(meta))
-
-    def guard(self, meta, children):
-        return ast.Transition(children[0], _name(children[1]), span=self._span(meta))
+        return ast.EventDecl(_name(children[0]), _description(children), span=self._span(meta))
 
     def name_list(self, meta, children):
         return tuple(_name(c) for c in children)
@@ -146,18 +153,81 @@ class MissionBuilder(Transformer):
     def param(self, meta, children):
         return ast.Parameter(_name(children[0]), children[1], span=self._span(meta))
 
-    # ---- states ----
+    # ---- behaviours ----
+    def behavior_decl(self, meta, children):
+        return ast.BehaviorDecl(_name(children[0]), _nodes(children, ast.BehaviorParam),
+                                children[-1], span=self._span(meta))
+
+    def behavior_param(self, meta, children):
+        default = children[2] if len(children) > 2 else None
+        return ast.BehaviorParam(_name(children[0]), children[1], default,
+                                 span=self._span(meta))
+
+    def param_kind(self, meta, children):
+        return _name(children[0])
+
+    # ---- machines and states ----
+    def machine_body(self, meta, children):
+        return ast.Machine(tuple(children), span=self._span(meta))
+
+    def start_decl(self, meta, children):
+        return ast.StartDecl(_name(children[0]), span=self._span(meta))
+
+    def state_decl(self, meta, children):
+        body = children[1]
+        nested = tuple(c for c in body if not isinstance(c, _PARTS))
+        regions = (_inline_region(nested),) if nested else ()
+        return ast.StateDecl(_name(children[0]), _nodes(body, _PARTS), regions=regions,
+                             span=self._span(meta))
+
+    def instance_state(self, meta, children):
+        parts = children[2] if len(children) > 2 else []
+        return ast.StateDecl(_name(children[0]), tuple(parts), instance=children[1],
+                             span=self._span(meta))
+
+    def parallel_state(self, meta, children):
+        body = children[1]
+        return ast.StateDecl(_name(children[0]), _nodes(body, _PARTS), parallel=True,
+                             regions=_nodes(body, ast.Region), span=self._span(meta))
+
+    def final_decl(self, meta, children):
+        names = _tokens(children, "NAME")
+        parts = next((c for c in children if isinstance(c, list)), [])
+        outcome = _name(names[1]) if len(names) > 1 else None
+        return ast.StateDecl(_name(names[0]), tuple(parts), final=True, outcome=outcome,
+                             span=self._span(meta))
+
+    def transition(self, meta, children):
+        actions = children[2] if len(children) > 2 else ()
+        return ast.Transition(children[0], _name(children[1]), actions, span=self._span(meta))
+
+    def instance(self, meta, children):
+        return ast.Instance(_name(children[0]), _nodes(children[1:], ast.Argument),
+                            span=self._span(meta))
+
+    def region(self, meta, children):
+        body = children[1]
+        if isinstance(body, ast.Instance):
+            return ast.Region(_name(children[0]), instance=body, span=self._span(meta))
+        return ast.Region(_name(children[0]), machine=body, span=self._span(meta))
+
     def state_body(self, meta, children):
+        return list(children)
+
+    def parallel_body(self, meta, children):
+        return list(children)
+
+    def part_body(self, meta, children):
         return list(children)
 
     def block_kind(self, meta, children):
         return str(children[0])
 
     def action_block(self, meta, children):
-        return ast.ActionBlock(children[0], tuple(children[1:]), span=self._span(meta))
+        return ast.ActionBlock(children[0], children[1], span=self._span(meta))
 
-    def clause(self, meta, children):
-        return ast.Transition(children[0], _name(children[1]), span=self._span(meta))
+    def actions(self, meta, children):
+        return tuple(children)
 
     # ---- actions ----
     def enable(self, meta, children):
@@ -212,7 +282,9 @@ class MissionBuilder(Transformer):
         return ast.Distance(_name(children[0]), _name(children[1]), span=self._span(meta))
 
     def member(self, meta, children):
-        return ast.Member(_name(children[0]), _name(children[1]), span=self._span(meta))
+        names = [_name(c) for c in children]
+        region = names[1] if len(names) == 3 else None
+        return ast.Member(names[0], names[-1], region, span=self._span(meta))
 
     # ---- values ----
     def quantity(self, meta, children):
@@ -222,8 +294,13 @@ class MissionBuilder(Transformer):
 
     def vector(self, meta, children):
         units = _tokens(children, "UNIT")
-        values = tuple(_number(t) for t in _tokens(children, "NUMBER"))
+        values = tuple(_number(c) if isinstance(c, Token) else c for c in children
+                       if not (isinstance(c, Token) and c.type == "UNIT"))
         return ast.Vector(values, _name(units[0]) if units else None, span=self._span(meta))
+
+    def name_element(self, meta, children):
+        return ast.NameElement(_name(children[-1]), negative=len(children) == 2,
+                               span=self._span(meta))
 
     def offset(self, meta, children):
         return ast.Offset(_name(children[0]), children[1], span=self._span(meta))
