@@ -41,6 +41,17 @@ def check_condition(ctx: CheckContext, condition: ast.Condition) -> None:
                         f"'event {name}' when it comes from outside the mission")
     elif isinstance(condition, ast.Comparison):
         dimensions = measure_dimensions(ctx, condition.measure)
+        value = condition.quantity
+        if isinstance(value, ast.Reference):
+            if value.name.text not in ctx.generic:
+                ctx.unknown("unknown-name", "constant", value.name, ctx.numbers,
+                            "compare with a number and its unit, or a constant or "
+                            "parameter that holds one")
+            return
+        if not isinstance(value, ast.Quantity):
+            ctx.error("wrong-value", "a comparison needs one number", value.span,
+                      "the constant or parameter compared holds something else")
+            return
         if dimensions is not None:
             check_quantity(ctx, condition.quantity, dimensions,
                            f"'{_measure_text(condition.measure)}'")
@@ -68,8 +79,11 @@ def _owner(ctx: CheckContext, member: ast.Member):
                   member.owner.span, "conditions read tasks (X.reached, X.error) "
                   "and controller.failed")
         return None
-    ctx.unknown("unknown-task", "task", member.owner,
-                list(ctx.symbols.tasks) + [CONTROLLER])
+    holder = ctx.all_states.get(name)
+    extra = (f"'{name}' is a state in the machine of '{holder}': a clause reads the states "
+             "of its own machine and of the machines around it" if holder else "")
+    ctx.unknown("unknown-task", "task", member.owner, list(ctx.symbols.tasks) + [CONTROLLER],
+                extra)
     return None
 
 

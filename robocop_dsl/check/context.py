@@ -15,6 +15,8 @@ from ..lang import ast
 from ..lang.units import ANGLE, LENGTH
 
 _ROTATIONAL = ("revolute", "continuous")
+NAMED = ("task", "constraint", "task or constraint", "body", "joint group", "event", "state",
+         "behavior")
 
 
 @dataclass(frozen=True)
@@ -142,11 +144,15 @@ class CheckContext:
     """Collects diagnostics for one mission file and the files it imports.
 
     ``notes`` name the behaviour instances being checked (each diagnostic gets them);
-    ``generic`` holds the parameter names of a behaviour checked on its own, which
-    stand for any value of their kind. ``scope`` is the chain of machines (local state
-    name to declaration, innermost first) whose states the clause being checked may
-    read; ``all_states`` every state name of the mission at any depth. ``expanded`` is the mission with constants and
-    behaviour instances bound, once checked.
+    ``generic`` holds names that stand for any value of their kind: the parameters of a
+    behaviour checked on its own, and constants whose value is wrong (reported once, at
+    their ``let``). ``constants`` are the ``let`` declarations by name. ``scope`` is the
+    chain of machines (local state name to declaration, innermost first) whose states
+    the clause being checked may read, and ``owner`` the state whose machine is being
+    checked (``None`` for the mission's or a behaviour checked on its own);
+    ``all_states`` every state name of the mission at any depth, with the state
+    whose machine holds it. ``expanded`` is the
+    mission with constants and behaviour instances bound, once checked.
     """
 
     def __init__(self, source: SourceFile, world=None):
@@ -157,8 +163,10 @@ class CheckContext:
         self.diagnostics: list[Diagnostic] = []
         self.notes: tuple[str, ...] = ()
         self.generic: frozenset[str] = frozenset()
+        self.constants: dict[str, ast.Let] = {}
         self.scope: tuple = ()
-        self.all_states: set[str] = set()
+        self.owner: str | None = None
+        self.all_states: dict[str, str | None] = {}
         self.expanded = ast.Mission()
 
     def source_of(self, span: Span | None) -> SourceFile:
@@ -173,6 +181,10 @@ class CheckContext:
             return f"line {span.line}"
         return f"{span.file}:{span.line}"
 
+    def opaque(self, value) -> bool:
+        """Whether ``value`` stands for any value (a name of ``generic``)."""
+        return isinstance(value, ast.Reference) and value.name.text in self.generic
+
     def error(self, code: str, message: str, span: Span | None, hint: str | None = None):
         self.diagnostics.append(self.source_of(span).error(code, message, _located(span),
                                                            hint, notes=self.notes))
@@ -184,7 +196,13 @@ class CheckContext:
     def unknown(self, code: str, what: str, name: ast.Name, candidates, extra: str = "",
                 where: str = ""):
         """``unknown body 'x'`` (then ``where``) with a "did you mean" among
-        ``candidates``, else the ``extra`` hint."""
+        ``candidates``, else the ``extra`` hint. A constant where a declared name
+        (``what``: a task, body, event, state...) is expected is reported as such."""
+        let = self.constants.get(name.text)
+        if let is not None and what in NAMED:
+            self.error("wrong-kind", f"'{name.text}' is a constant, not a {what}", name.span,
+                       f"'{name.text}' is declared at {self.where(let.span)}")
+            return
         hint = did_you_mean(name.text, candidates) or extra or None
         self.error(code, f"unknown {what} '{name.text}'{where}", name.span, hint)
 

@@ -17,19 +17,8 @@ from ..lang import ast
 from .behaviors import (bind_arguments, check_behavior_declarations, check_recursion,
                         generic_bindings, instance_text, instantiated)
 from .bindings import Binding, substitute
+from .constants import declared_constants
 from .context import CheckContext
-
-
-def declared_constants(ctx: CheckContext, mission: ast.Mission) -> dict[str, Binding]:
-    """The ``let`` constants in order, each substituted with the ones before it."""
-    lets: dict[str, Binding] = {}
-    for let in mission.of_type(ast.Let):
-        if let.name.text in lets:
-            ctx.error("duplicate-name", f"constant '{let.name.text}' is already declared",
-                      let.name.span, f"first declared at {ctx.where(lets[let.name.text].span)}")
-            continue
-        lets[let.name.text] = Binding(let.name.text, substitute(ctx, let.value, lets), let.span)
-    return lets
 
 
 def declared_behaviors(ctx: CheckContext, mission: ast.Mission) -> dict[str, ast.BehaviorDecl]:
@@ -45,43 +34,54 @@ def declared_behaviors(ctx: CheckContext, mission: ast.Mission) -> dict[str, ast
 
 
 class Expander:
-    """Expands a mission's machine against its constants and behaviours."""
+    """Expands a mission's machine against its constants and behaviours.
+
+    ``exposed`` names the behaviours that some instance expanded (their body was
+    checked with its arguments bound)."""
 
     def __init__(self, ctx: CheckContext, mission: ast.Mission):
         self.ctx = ctx
         self.lets = declared_constants(ctx, mission)
+        ctx.numbers = [n for n, b in self.lets.items() if isinstance(b.value, ast.Quantity)]
+        self.base = ctx.generic
         self.behaviors = declared_behaviors(ctx, mission)
-        check_behavior_declarations(ctx, self.behaviors, self.lets)
+        self.bad_defaults = check_behavior_declarations(ctx, self.behaviors, self.lets)
         self.recursive = check_recursion(ctx, self.behaviors)
+        self.exposed: set[str] = set()
 
     def mission(self, mission: ast.Mission) -> ast.Mission:
         """``mission`` with constants bound in its declarations and its machine expanded."""
         items = []
         for item in mission.items:
-            if isinstance(item, (ast.TaskDecl, ast.ConstraintDecl)):
+            if isinstance(item, (ast.TaskDecl, ast.ConstraintDecl, ast.Transition)):
                 item = substitute(self.ctx, item, self.lets)
             elif isinstance(item, ast.StateDecl):
                 item = self.state(item, self.lets)
-            elif isinstance(item, ast.Transition):
-                item = substitute(self.ctx, item, self.lets)
             items.append(item)
         return dataclasses.replace(mission, items=tuple(items))
 
-    def unused_behaviors(self, mission: ast.Mission, own: set[str]) -> list[ast.Machine]:
-        """The behaviours of the checked file that nothing instantiates, expanded with
-        generic bindings (see :func:`generic_bindings`), each with its parameters' names."""
-        used = {i.behavior.text for i in instantiated(mission.machine)}
-        for behavior in self.behaviors.values():
-            used |= {i.behavior.text for i in instantiated(behavior.machine)}
+    def unused_behaviors(self) -> list[tuple[str, ast.Machine, frozenset[str]]]:
+        """The behaviours that no instance exposes, each expanded with generic bindings
+        (see :func:`generic_bindings`): its name, its machine and the names that stand
+        for any value while it is checked. One that only such a behaviour instantiates
+        is exposed through it."""
         found = []
-        for name, behavior in self.behaviors.items():
-            if name in used or name not in own or name in self.recursive:
-                continue
-            bindings, generic = generic_bindings(self.ctx, behavior, self.lets)
-            self.ctx.generic = generic
-            found.append((self.machine(behavior.machine, bindings, (name,)), generic))
-            self.ctx.generic = frozenset()
-        return found
+        callers = {name: {i.behavior.text for i in instantiated(b.machine)}
+                   for name, b in self.behaviors.items()}
+        while True:
+            pending = [n for n in self.behaviors if n not in self.exposed
+                       and n not in self.recursive and n not in {f[0] for f in found}]
+            roots = [n for n in pending if not any(n in callers[c] for c in pending)]
+            if not roots:
+                return found
+            name = roots[0]
+            behavior = self.behaviors[name]
+            bindings, generic = generic_bindings(self.ctx, behavior, self.lets,
+                                                 self.bad_defaults)
+            self.ctx.generic = self.base | generic
+            found.append((name, self.machine(behavior.machine, bindings, (name,)),
+                          self.ctx.generic))
+            self.ctx.generic = self.base
 
     def machine(self, machine: ast.Machine, bindings: dict[str, Binding],
                 stack: tuple[str, ...]) -> ast.Machine:
@@ -121,6 +121,7 @@ class Expander:
         bindings = bind_arguments(self.ctx, instance, behavior, self.lets)
         if bindings is None:
             return None
+        self.exposed.add(name)
         notes = self.ctx.notes
         self.ctx.notes = (instance_note(self.ctx, instance), *notes)
         try:

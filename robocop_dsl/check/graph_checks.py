@@ -159,7 +159,8 @@ def truth(condition: ast.Condition) -> bool | None:
         if decisive in values:
             return decisive
         return (not decisive) if all(v is not None for v in values) else None
-    if isinstance(condition, ast.Comparison) and isinstance(condition.measure, _NON_NEGATIVE):
+    if isinstance(condition, ast.Comparison) and isinstance(condition.measure, _NON_NEGATIVE) \
+            and isinstance(condition.quantity, ast.Quantity):
         value, operator = condition.quantity.value, condition.operator
         if (operator == ">=" and value <= 0) or (operator == ">" and value < 0):
             return True

@@ -143,11 +143,12 @@ Measure = Union[Member, Elapsed, Time, Distance]
 
 @dataclass(frozen=True)
 class Comparison(Node):
-    """``measure OP quantity`` with OP one of ``< <= > >=``."""
+    """``measure OP quantity`` with OP one of ``< <= > >=``; the quantity may be a name
+    (a constant or a behaviour parameter, :class:`Reference`) until the checker binds it."""
 
     measure: Measure
     operator: str
-    quantity: Quantity
+    quantity: Quantity | Reference
 
 
 @dataclass(frozen=True)
