@@ -52,6 +52,42 @@ def test_pickup_succeeds_with_the_seed_sequence(tmp_path):
     assert data["solved"].all()
 
 
+def test_a_composed_mission_reports_configurations_and_full_paths(tmp_path):
+    """The progress, the summary's transitions, the log's events and ``state`` column
+    show full paths and the configuration of both regions."""
+    path = write(tmp_path, """
+state both: parallel {
+    region left {
+        state first { when elapsed >= 10 ms -> arrived }
+        final arrived
+    }
+    region right {
+        state first { when elapsed >= 20 ms -> arrived }
+        final arrived
+    }
+    when both.done -> finish
+}
+final finish
+""")
+    done = robocop("run", path, "--log", tmp_path / "log", "--duration", "1")
+    assert done.returncode == 0, done.stderr
+    assert "start in both/left/first | both/right/first" in done.stderr
+    assert "both/left/first -> both/left/arrived  (elapsed >= 10 ms)" in done.stderr
+    rows = [[cell.strip() for cell in line.split("│")] for line in done.stdout.splitlines()
+            if line.count("│") == 3]
+    assert [(row[1], row[2]) for row in rows] == [
+        ("both/left/first", "both/left/arrived"), ("both/right/first", "both/right/arrived"),
+        ("both", "finish")]
+    events = read_events(tmp_path / "log")
+    assert events[0]["state"] == "both/left/first | both/right/first"
+    assert [(e["cycle"], e["from"], e["to"]) for e in events if e["kind"] == "transition"] == [
+        (2, "both/left/first", "both/left/arrived"), (4, "both/right/first", "both/right/arrived"),
+        (5, "both", "finish")]
+    assert list(read_timeseries(tmp_path / "log")["state"]) == [
+        "both/left/first | both/right/first"] * 2 + ["both/left/arrived | both/right/first"] * 2 \
+        + ["both/left/arrived | both/right/arrived", "finish"]
+
+
 def test_failure_outcome_exits_1(tmp_path):
     path = write(tmp_path, "state wait { when elapsed > 50 ms -> broken }\nfinal broken: failure\n")
     done = robocop("run", path)

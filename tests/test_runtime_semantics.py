@@ -100,6 +100,8 @@ def test_timeout_with_elapsed(tmp_path):
 
 
 def test_emitted_and_injected_events(tmp_path):
+    """An event raised in a cycle is seen from the next; one injected between cycles
+    counts as raised in the last completed cycle, so the next cycle sees it."""
     m = mission(tmp_path, """
         event go "raised by the operator"
         state a {
@@ -114,10 +116,10 @@ def test_emitted_and_injected_events(tmp_path):
         final failed: failure
     """)
     runner = m.runner()
-    for _ in range(3):
-        runner.step()
+    runner.step()
+    assert runner.state == "a"
+    runner.step()
     assert runner.state == "b"
-    assert runner.time == pytest.approx(0.015)
     for _ in range(20):
         runner.step()
     assert runner.state == "b"
@@ -125,7 +127,28 @@ def test_emitted_and_injected_events(tmp_path):
     runner.step()
     assert runner.state == "done"
     result = runner.run()
-    assert [t.condition for t in result.transitions] == ["event ready", "event go"]
+    assert [(t.time, t.condition) for t in result.transitions] == [
+        (0.005, "event ready"), (0.11, "event go")]
+
+
+def test_events_stay_raised_until_the_owner_state_is_left(tmp_path):
+    """``go``, raised in cycle 0, is still seen 50 ms later by ``wait`` (entered before
+    the raise), not by ``late`` (entered after it)."""
+    m = mission(tmp_path, """
+        state wait {
+            enter { emit go }
+            when event go and elapsed >= 50 ms -> late
+        }
+        state late {
+            when event go -> failed
+            when elapsed >= 50 ms -> done
+        }
+        final done
+        final failed: failure
+    """)
+    _, result, _ = run(m)
+    assert [(t.source, t.target, t.time) for t in result.transitions] == [
+        ("wait", "late", 0.05), ("late", "done", 0.1)]
 
 
 INFEASIBLE = """
@@ -179,3 +202,207 @@ def test_pickup_carries_the_part_to_the_drop_point(tmp_path):
     lifted = carried[len(carried) // 2].body_poses["part_body"][:3, 3]
     assert lifted[2] > 0.76 + 0.1
     assert not seen.records[-1].body_poses
+
+
+# ---- nested machines, behaviours, parallel regions (one cycle is 5 ms) ----------------
+
+def logged(seen, cycle=None):
+    """The log messages and transitions (``A -> B``) in the order they happened."""
+    lines = []
+    for event in seen.events:
+        if cycle is not None and event.cycle != cycle:
+            continue
+        if event.kind == "log":
+            lines.append(event.data["message"])
+        elif event.kind == "transition":
+            lines.append(f"{event.data['from']} -> {event.data['to']}")
+    return lines
+
+
+def fired(seen):
+    """``(cycle, source, target)`` of every transition."""
+    return [(e.cycle, e.data["from"], e.data["to"]) for e in seen.events
+            if e.kind == "transition"]
+
+
+def test_enter_during_exit_and_transition_actions_across_three_levels(tmp_path):
+    m = mission(tmp_path, """
+        state outer {
+            enter  { log "enter outer" }
+            during { log "during outer" }
+            exit   { log "exit outer" }
+            state mid {
+                enter  { log "enter mid" }
+                during { log "during mid" }
+                exit   { log "exit mid" }
+                state inner {
+                    enter  { log "enter inner" }
+                    during { log "during inner" }
+                    exit   { log "exit inner" }
+                }
+            }
+            when elapsed >= 10 ms -> other { log "between" }
+        }
+        state other {
+            enter { log "enter other" }
+            when elapsed >= 10 ms -> done
+        }
+        final done
+    """)
+    _, result, seen = run(m)
+    assert logged(seen, 0) == ["enter outer", "enter mid", "enter inner",
+                               "during outer", "during mid", "during inner"]
+    assert logged(seen, 2) == ["outer -> other", "exit inner", "exit mid", "exit outer",
+                               "between", "enter other"]
+    assert [r.state for r in seen.records[:3]] == ["outer/mid/inner"] * 2 + ["other"]
+    assert seen.records[0].transitions[0].entered == ("outer", "outer/mid",
+                                                      "outer/mid/inner")
+    assert seen.records[2].transitions[0].exited == ("outer/mid/inner", "outer/mid",
+                                                     "outer")
+    log_states = {e.data["message"]: e.data["state"] for e in seen.events if e.kind == "log"}
+    assert log_states["exit mid"] == "outer/mid" and log_states["between"] == "outer"
+    assert result.outcome == "success"
+
+
+def test_inner_clauses_come_before_the_clauses_around_them(tmp_path):
+    """In cycle 2 the clauses of ``pick/above`` and of ``pick`` both hold: the inner one
+    fires, ``pick``'s waits for a cycle where nothing inside fires; the mission's guard
+    comes last."""
+    m = mission(tmp_path, """
+        state pick {
+            state above { when elapsed >= 10 ms -> down }
+            state down  { when elapsed >= 1 s -> above }
+            when elapsed >= 10 ms -> carry
+        }
+        state carry { when elapsed >= 1 s -> done }
+        when time >= 10 ms -> failed
+        final done
+        final failed: failure
+    """)
+    _, result, seen = run(m)
+    assert fired(seen) == [(2, "pick/above", "pick/down"), (3, "pick", "carry"),
+                           (4, "carry", "failed")]
+    assert result.final_state == "failed"
+
+
+APPROACH = """
+    behavior approach() {
+        start above
+        state above { when elapsed >= 10 ms -> down }
+        state down  { when elapsed >= 1 s -> arrived }
+        when elapsed > 15 ms -> missed
+        final arrived
+        final missed
+    }
+"""
+
+
+def test_elapsed_counts_from_the_entry_of_the_state_that_owns_the_clause(tmp_path):
+    """The behaviour's guard (``elapsed > 15 ms``) counts from the entry of its active
+    state ``down`` (cycle 2), the instance's own clause from the instance's entry."""
+    m = mission(tmp_path, APPROACH + """
+        state pick: approach() {
+            when elapsed >= 40 ms -> late
+        }
+        final late
+    """)
+    _, result, seen = run(m)
+    assert fired(seen) == [(2, "pick/above", "pick/down"), (6, "pick/down", "pick/missed"),
+                           (8, "pick", "late")]
+
+
+def test_visits_count_re_entries_and_restart_with_their_machine(tmp_path):
+    """``go`` runs twice per entry of ``pick``, ``pick`` three times."""
+    m = mission(tmp_path, """
+        state pick {
+            state go {
+                enter { log "go" }
+                when elapsed >= 10 ms -> back
+            }
+            state back {
+                when go.visits < 2 -> go
+                when elapsed >= 0 s -> missed
+            }
+            final missed
+            when pick.missed and pick.visits < 3 -> pick { log "retry" }
+            when pick.missed -> failed
+        }
+        final failed: failure
+    """)
+    _, result, seen = run(m)
+    assert logged(seen).count("go") == 6 and logged(seen).count("retry") == 2
+    assert [line for line in logged(seen) if line in ("go", "retry")] == [
+        "go", "go", "retry", "go", "go", "retry", "go", "go"]
+    assert (result.final_state, result.outcome) == ("failed", "failure")
+
+
+PARALLEL = APPROACH + """
+    state both: parallel {
+        enter { log "enter both" }
+        exit  { log "exit both" }
+        region left: approach()
+        region right {
+            state above {
+                exit { log "exit right/above" }
+                when elapsed >= 10 ms -> down
+            }
+            state down { when elapsed >= 20 ms -> arrived }
+            final arrived
+        }
+        when both.left.missed and both.right.arrived -> missed
+        when both.done -> finish
+    }
+    final finish
+    final missed: failure
+"""
+
+
+def test_regions_step_in_declaration_order_in_the_same_cycle(tmp_path):
+    """Both regions leave ``above`` in cycle 2, left first; the configuration shows both
+    regions' states; leaving the parallel state exits the right region first."""
+    m = mission(tmp_path, PARALLEL)
+    _, result, seen = run(m)
+    assert logged(seen, 0) == ["enter both"]
+    assert fired(seen) == [(2, "both/left/above", "both/left/down"),
+                           (2, "both/right/above", "both/right/down"),
+                           (6, "both/left/down", "both/left/missed"),
+                           (6, "both/right/down", "both/right/arrived"),
+                           (7, "both", "missed")]
+    assert [r.state for r in seen.records[1:4]] == [
+        "both/left/above | both/right/above", "both/left/down | both/right/down",
+        "both/left/down | both/right/down"]
+    assert seen.records[-1].transitions[0].exited == (
+        "both/right/arrived", "both/left/missed", "both")
+    assert (result.final_state, result.outcome) == ("missed", "failure")
+
+
+def test_a_parallel_state_is_done_when_every_region_is_final(tmp_path):
+    m = mission(tmp_path, PARALLEL.replace("when elapsed > 15 ms -> missed",
+                                           "when elapsed >= 20 ms -> arrived"))
+    _, result, seen = run(m)
+    assert fired(seen)[-1] == (7, "both", "finish")
+    assert seen.records[6].state == "both/left/arrived | both/right/arrived"
+    assert result.final_state == "finish"
+
+
+def test_a_failure_is_handled_only_by_clauses_checked_in_the_configuration(tmp_path):
+    """The behaviour's guard handles the failure while its machine runs; once it is in a
+    final state, no checked clause tests ``controller.failed``: the next failure is a
+    fault."""
+    constraints = INFEASIBLE[:INFEASIBLE.index("state hold")]
+    m = mission(tmp_path, constraints + """
+        behavior careful() {
+            state wait { when elapsed > 1 s -> calm }
+            final calm
+            final broken
+            when controller.failed -> broken
+        }
+        state hold: careful() {
+            when hold.calm -> done
+        }
+        final done
+    """)
+    _, result, seen = run(m)
+    assert fired(seen) == [(1, "hold/wait", "hold/broken")]
+    assert result.transitions[0].condition == "controller.failed"
+    assert (result.outcome, result.final_state) == ("fault", "hold/broken")

@@ -1,5 +1,6 @@
-"""Terminal output of ``run``: a live line (rich) with mission time and state, plain
-transition lines when not a terminal, and the end-of-run summary."""
+"""Terminal output of ``run``: a live line (rich) with mission time and the active
+configuration, plain transition lines (full state paths) when not a terminal, and the
+end-of-run summary."""
 
 from __future__ import annotations
 
@@ -16,7 +17,8 @@ REFRESH = 0.1
 
 
 class ProgressDisplay(Observer):
-    """Shows mission time and the active state; refreshes at most every 0.1 s of wall time."""
+    """Shows mission time and the active configuration; refreshes at most every 0.1 s of
+    wall time."""
 
     wants_tasks = False
 

@@ -1,6 +1,12 @@
 """From a compiled mission to a running one: the controller with the mission's tasks
 and constraints, and the :class:`Program` of closures the runner executes.
 
+Actions are ``action(runner)``; clause tests are ``test(runner, owner)`` with ``owner``
+the :class:`~robocop_dsl.runtime.statechart.Activation` of the state owning the clause
+(``elapsed`` counts from its entry); they read the runner's ``time``, ``cycle``,
+``failed``, ``kinematics``, ``controller`` and ``chart`` (the
+:class:`~robocop_dsl.runtime.statechart.Statechart`: finals, visits, events).
+
 In a cascade (see :mod:`robocop_dsl.runtime.cascade`) each controller gets the tasks
 and constraints it runs, and the program, executed by the thread of the first
 controller, reaches the others through a ``remote`` object: ``is_local(name)``,
@@ -13,8 +19,9 @@ from __future__ import annotations
 import operator
 
 from ..compile import spec as s
+from ..compile.state_graph import join
 from ..control import Controller, make_feedback_loop, make_interpolator
-from .program import Clause, Program, StateProgram
+from .program import Clause, MachineProgram, Program, StateProgram
 from .targets import control_target
 
 _COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
@@ -59,19 +66,35 @@ def _scalars(parameters: dict) -> dict:
 def build_program(mission: s.MissionSpec, remote=None) -> Program:
     """Closures for every state's actions and clauses, built once; ``remote`` reaches
     the tasks and constraints of the other controllers of a cascade (see above)."""
-    states = {}
-    for name, state in mission.states.items():
-        own = [t for t in state.transitions if not t.guard]
-        states[name] = StateProgram(
-            name, state.final, state.outcome or "success",
-            [action(a, remote) for a in state.enter], [action(a, remote) for a in state.during],
-            [action(a, remote) for a in state.exit], [clause(t, remote) for t in own])
-    return Program(states, [clause(t, remote) for t in mission.guards], mission.start)
+    return Program(build_machine(mission.machine, remote))
+
+
+def build_machine(machine: s.MachineSpec, remote=None) -> MachineProgram:
+    """The :class:`MachineProgram` of ``machine`` and of every machine nested in it."""
+    states = {name: _state(state, machine.path, remote)
+              for name, state in machine.states.items()}
+    return MachineProgram(machine.path, states, machine.start,
+                          [clause(t, remote) for t in machine.guards], machine.region)
+
+
+def _state(state: s.StateSpec, machine: str, remote) -> StateProgram:
+    return StateProgram(
+        state.name, state.final, state.outcome or "success",
+        _actions(state.enter, remote), _actions(state.during, remote),
+        _actions(state.exit, remote),
+        [clause(t, remote) for t in state.transitions if not t.guard],
+        state.path or join(machine, state.name), machine,
+        [build_machine(m, remote) for m in state.machines], state.parallel)
+
+
+def _actions(specs, remote) -> list:
+    return [action(a, remote) for a in specs]
 
 
 def clause(transition: s.TransitionSpec, remote=None) -> Clause:
     return Clause(condition(transition.condition, remote), transition.target,
-                  transition.text, _uses_failure(transition.condition))
+                  transition.text, _uses_failure(transition.condition),
+                  _actions(transition.actions, remote))
 
 
 def _uses_failure(spec) -> bool:
@@ -93,36 +116,47 @@ def _task_reader(name: str, remote):
 
 
 def condition(spec, remote=None):
-    """A function of the runner that tells whether ``spec`` holds this cycle."""
+    """A function ``test(runner, owner)`` that tells whether ``spec`` holds this cycle
+    for a clause whose owner state's entry is ``owner`` (an
+    :class:`~robocop_dsl.runtime.statechart.Activation`)."""
     if isinstance(spec, s.ReachedCondition):
         task = _task_reader(spec.task, remote)
-        return lambda runner: task(runner).reached
+        return lambda runner, owner: task(runner).reached
     if isinstance(spec, s.ControllerFailedCondition):
-        return lambda runner: runner.failed
+        return lambda runner, owner: runner.failed
     if isinstance(spec, s.EventCondition):
-        return lambda runner, event=spec.event: event in runner.events_now
+        return lambda runner, owner, event=spec.event: runner.chart.seen(event, owner,
+                                                                          runner.cycle)
+    if isinstance(spec, s.FinalCondition):
+        return lambda runner, owner, c=spec: runner.chart.in_final(c.state, c.final, c.region)
+    if isinstance(spec, s.DoneCondition):
+        return lambda runner, owner, path=spec.state: runner.chart.done(path)
     if isinstance(spec, s.NotCondition):
         operand = condition(spec.operand, remote)
-        return lambda runner: not operand(runner)
+        return lambda runner, owner: not operand(runner, owner)
     if isinstance(spec, s.AllCondition):
         operands = [condition(o, remote) for o in spec.operands]
-        return lambda runner: all(o(runner) for o in operands)
+        return lambda runner, owner: all(o(runner, owner) for o in operands)
     if isinstance(spec, s.AnyCondition):
         operands = [condition(o, remote) for o in spec.operands]
-        return lambda runner: any(o(runner) for o in operands)
+        return lambda runner, owner: any(o(runner, owner) for o in operands)
     measure, compare, value = _measure(spec.measure, remote), _COMPARE[spec.operator], spec.value
-    return lambda runner: compare(measure(runner), value)
+    return lambda runner, owner: compare(measure(runner, owner), value)
 
 
 def _measure(spec, remote):
+    """A function ``measure(runner, owner)`` giving the value of ``spec`` [SI]."""
     if isinstance(spec, s.ElapsedMeasure):
-        return lambda runner: runner.elapsed
+        return lambda runner, owner: round(runner.time - owner.time, 9)
+    if isinstance(spec, s.VisitsMeasure):
+        return lambda runner, owner, path=spec.state: runner.chart.visits(path)
     if isinstance(spec, s.TimeMeasure):
-        return lambda runner: runner.time
+        return lambda runner, owner: runner.time
     if isinstance(spec, s.DistanceMeasure):
-        return lambda runner, a=spec.first, b=spec.second: runner.kinematics.distance(a, b)
+        return lambda runner, owner, a=spec.first, b=spec.second: \
+            runner.kinematics.distance(a, b)
     task = _task_reader(spec.task, remote)
-    return lambda runner, field=spec.field: getattr(task(runner), field)
+    return lambda runner, owner, field=spec.field: getattr(task(runner), field)
 
 
 def _routed(name: str, remote, act):

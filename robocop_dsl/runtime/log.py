@@ -1,7 +1,8 @@
 """Writing a run to a folder: ``events.jsonl`` (one JSON object per line, written as
 they happen) and ``timeseries.parquet`` (one row per cycle, one column per signal).
 
-The time series columns: ``cycle``, ``time`` [s], ``state``, ``solved``,
+The time series columns: ``cycle``, ``time`` [s], ``state`` (the active configuration:
+leaf state paths joined by `` | ``), ``solved``,
 ``q.JOINT`` [rad or m], ``command.JOINT`` [rad/s or m/s], ``error.TASK`` (norm, m or
 rad), ``reference.TASK.I`` (the task's interpolated reference, component I; poses as
 x, y, z [m] then a rotation vector [rad]),

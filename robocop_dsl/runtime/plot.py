@@ -1,5 +1,5 @@
-"""PNG figures of a logged run, with a coloured band per active state (like mc_rtc's
-log viewer): joint positions, velocity commands and task errors."""
+"""PNG figures of a logged run, with a coloured band per active configuration (like
+mc_rtc's log viewer): joint positions, velocity commands and task errors."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ FIGURES = {
 
 
 def state_spans(time: np.ndarray, states: np.ndarray) -> list:
-    """``(state, start, end)`` for each stretch of cycles spent in one state [s]."""
+    """``(state, start, end)`` for each stretch of cycles spent in one configuration [s]."""
     spans = []
     start = 0
     for index in range(1, len(states) + 1):

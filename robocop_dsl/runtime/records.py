@@ -38,7 +38,10 @@ class CycleRecord:
     m] and ``command`` [rad/s or m/s] are the controlled group's, in its joint order.
     ``tasks`` is a sequence of :class:`TaskView`, computed when first read.
     ``body_poses`` gives the 4x4 world pose of environment bodies moved by ``attach``.
-    Times are seconds.
+    ``state`` is the active configuration (leaf paths joined by `` | ``) after the
+    cycle's transitions; ``transitions`` the
+    :class:`~robocop_dsl.runtime.statechart.MicroStep` s taken in the cycle (the
+    start-up's included in the first). Times are seconds.
     """
 
     cycle: int
@@ -52,6 +55,7 @@ class CycleRecord:
     body_poses: dict = field(default_factory=dict)
     compute_time: float = 0.0
     cycle_time: float = 0.0
+    transitions: tuple = ()
 
 
 @dataclass(frozen=True)

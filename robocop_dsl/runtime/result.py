@@ -9,7 +9,8 @@ import numpy as np
 
 @dataclass(frozen=True)
 class TransitionRecord:
-    """A transition taken at ``time`` [s] because ``condition`` held."""
+    """A transition taken at ``time`` [s] because ``condition`` held; ``source`` and
+    ``target`` are state paths (``pick/above``)."""
 
     time: float
     source: str
@@ -21,7 +22,8 @@ class TransitionRecord:
 class RunResult:
     """``outcome``: ``success`` or ``failure`` (the final state's), ``stopped`` (the
     duration cap came first), ``fault`` (a run-time fault with no handler) or
-    ``interrupted`` (Ctrl-C). Times in seconds: ``cycle_times`` are whole cycles,
+    ``interrupted`` (Ctrl-C). ``final_state`` is the active configuration at the end
+    (leaf state paths joined by `` | ``). Times in seconds: ``cycle_times`` are whole cycles,
     observers included; ``compute_times`` the controller's work in them (forward
     kinematics and QP)."""
 

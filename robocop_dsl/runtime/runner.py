@@ -1,9 +1,9 @@
 """The periodic loop that executes a mission (DESIGN "Semantics of one cycle"):
 
 1. read the driver, update the kinematics;
-2. test the active state's clauses, then the top-level guards; the first that holds
-   fires: the state's ``exit`` actions, then the next state's ``enter`` actions;
-3. run the active state's ``during`` actions;
+2. check the active states' clauses, innermost first, and fire those that hold (see
+   :mod:`robocop_dsl.runtime.statechart`);
+3. run the active states' ``during`` actions, outermost first;
 4. compute the QP command and write it to the driver; observers get a copy.
 
 ``controller.failed`` is true in the cycle after a cycle whose QP had no solution or
@@ -22,6 +22,7 @@ from ..diagnostics import RobocopError
 from .program import Program
 from .records import CycleRecord, Event
 from .result import RunResult, TransitionRecord
+from .statechart import Statechart
 from .views import TaskViews, task_views
 
 
@@ -33,6 +34,10 @@ class Runner:
         controller: A :class:`robocop_dsl.control.Controller`.
         driver: An object with ``read() -> (q, v)``, ``write(velocity)`` and ``hold()``.
         name: The mission's name, for reports.
+
+    Attributes:
+        chart: The :class:`~robocop_dsl.runtime.statechart.Statechart` running the
+            program's machines.
     """
 
     def __init__(self, program: Program, controller, driver, name: str = "mission"):
@@ -47,10 +52,9 @@ class Runner:
         self._wants_tasks = False
         self.cycle = 0
         self.failed = False
-        self.events_now: set = set()
-        self._pending_events: list = []
-        self._state = program.start
-        self._entered_at = 0.0
+        self.chart = Statechart(program, self._on_transition)
+        self._in_cycle = False
+        self._steps: tuple = ()
         self._started = False
         self._done: str | None = None
         self._message = ""
@@ -65,22 +69,18 @@ class Runner:
         self.q = None
 
     def __repr__(self) -> str:
-        return f"Runner({self.name}, state={self._state}, t={self.time:.3f}s)"
+        return f"Runner({self.name}, state={self.state}, t={self.time:.3f}s)"
 
     @property
     def state(self) -> str:
-        """The active state's name."""
-        return self._state
+        """The active configuration: the active leaf states' paths in declaration order,
+        joined by `` | `` (``pick/above``, ``both/left/above | both/right/down``)."""
+        return self.chart.configuration
 
     @property
     def time(self) -> float:
         """Mission time [s] (rounded to the nanosecond)."""
         return round(self.cycle * self.time_step, 9)
-
-    @property
-    def elapsed(self) -> float:
-        """Time spent in the active state [s]."""
-        return self.time - self._entered_at
 
     @property
     def finished(self) -> bool:
@@ -95,12 +95,17 @@ class Runner:
         return task_views(self.controller)
 
     def emit(self, event: str) -> None:
-        """Raise ``event``; ``event NAME`` conditions see it in the next cycle."""
-        self._pending_events.append(event)
+        """Raise ``event``: ``event NAME`` conditions see it from the next cycle on while
+        their owner state stays. Raised between cycles, it counts as raised in the last
+        completed cycle."""
+        cycle = self.cycle if self._in_cycle else max(self.cycle - 1, 0)
+        self.chart.raise_event(event, cycle)
         self._notify_event("event", {"name": event})
 
     def log(self, text: str) -> None:
-        self._notify_event("log", {"message": text, "state": self._state})
+        """A ``log`` event; its ``state`` is the path of the state whose block or clause
+        logs, else the configuration."""
+        self._notify_event("log", {"message": text, "state": self.chart.running or self.state})
 
     def attach(self, body: str, parent: str) -> None:
         """Make ``body`` move rigidly with ``parent`` from now on."""
@@ -123,7 +128,7 @@ class Runner:
         self._started = True
         for observer in self.observers:
             observer.on_start(self)
-        self._notify_event("start", {"state": self._state})
+        self._notify_event("start", {"state": self.state})
         try:
             self.driver.connect()
             self.q, _ = self.driver.read()
@@ -132,16 +137,14 @@ class Runner:
             self._finish("fault", f"driver: {error}")
             return
         self.kinematics.update(self.q)
-        self._enter(self._state)
+        self._macro(self.chart.start(self))
 
-    def _enter(self, name: str) -> None:
-        self._state = name
-        self._entered_at = self.time
-        state = self.program.states[name]
-        for action in state.enter:
-            action(self)
-        if state.final:
-            self._finish(state.outcome, f"reached final state '{name}'")
+    def _macro(self, step) -> None:
+        """Keep the micro steps of ``step`` for this cycle's record; end the run when it
+        entered a final state of the mission's machine."""
+        self._steps = self._steps + step.steps
+        if step.outcome is not None:
+            self._finish(step.outcome, f"reached final state '{step.final}'")
 
     def _finish(self, outcome: str, message: str) -> None:
         if self._done is None:
@@ -159,26 +162,26 @@ class Runner:
     def _driver_fault(self, error: Exception) -> None:
         self._driver_lost = True
         self.failed = True
-        self._notify_event("fault", {"message": f"driver: {error}", "state": self._state})
+        self._notify_event("fault", {"message": f"driver: {error}", "state": self.state})
 
-    def _transition(self) -> None:
-        state = self.program.states[self._state]
-        for clause in state.clauses + self.program.guards:
-            if clause.test(self):
-                self._transitions.append(TransitionRecord(self.time, self._state, clause.target,
-                                                          clause.text))
-                self._notify_event("transition", {"from": self._state, "to": clause.target,
-                                                  "condition": clause.text})
-                for action in state.exit:
-                    action(self)
-                self._enter(clause.target)
-                return
+    def _on_transition(self, source: str, target: str, condition: str) -> None:
+        """A clause fires (before its actions): record it and tell the observers."""
+        self._transitions.append(TransitionRecord(self.time, source, target, condition))
+        self._notify_event("transition", {"from": source, "to": target,
+                                          "condition": condition})
 
     def _unhandled_failure(self) -> bool:
-        return self.failed and not self.program.handles_failure(self._state)
+        return self.failed and not self.chart.handles_failure()
 
     def step(self) -> bool:
         """Run one cycle; return ``False`` once the mission has ended."""
+        self._in_cycle = True
+        try:
+            return self._cycle()
+        finally:
+            self._in_cycle = False
+
+    def _cycle(self) -> bool:
         if not self._started:
             self._start()
         if self._done is not None:
@@ -188,15 +191,12 @@ class Runner:
         before_kinematics = clock.perf_counter()
         self.kinematics.update(self.q)
         kinematics_time = clock.perf_counter() - before_kinematics
-        self.events_now = set(self._pending_events)
-        self._pending_events.clear()
         if self._unhandled_failure():
             self._finish("fault", self._message or "run-time fault with no handler")
         else:
-            self._transition()
+            self._macro(self.chart.transitions(self))
         if self._done is None:
-            for action in self.program.states[self._state].during:
-                action(self)
+            self.chart.during(self)
         command, solved, compute_time = self._command()
         self._write(command)
         self._record(command, solved, kinematics_time + compute_time,
@@ -212,8 +212,8 @@ class Runner:
         self.failed = not result.solved
         if not result.solved:
             self._qp_failures += 1
-            self._message = f"no QP solution in state '{self._state}': {result.reason}"
-            self._notify_event("qp_failure", {"message": result.reason, "state": self._state,
+            self._message = f"no QP solution in state '{self.state}': {result.reason}"
+            self._notify_event("qp_failure", {"message": result.reason, "state": self.state,
                                               "repeat": self._qp_failures > 1})
         return result.velocity, result.solved, result.timings.total
 
@@ -233,15 +233,16 @@ class Runner:
         """Hand observers a copy of the cycle; ``compute_time`` [s] is the controller's
         work (kinematics and QP), ``cycle_time`` [s] the cycle before observers."""
         self._compute_times.append(compute_time)
+        steps, self._steps = self._steps, ()
         if not self.observers:
             return
         bodies = {b: self.kinematics.pose(f).homogeneous.copy()
                   for b, f in self._attached.items()}
-        record = CycleRecord(self.cycle, self.time, self._state, self.q.copy(),
+        record = CycleRecord(self.cycle, self.time, self.state, self.q.copy(),
                              self.q[self.controller.joint_group.q_indices],
                              np.array(command, dtype=float), solved,
                              self.task_views() if self._wants_tasks else (), bodies,
-                             compute_time, cycle_time)
+                             compute_time, cycle_time, steps)
         for observer in self.observers:
             observer.on_cycle(record)
 
@@ -283,7 +284,7 @@ class Runner:
                 self._driver_fault(error)
 
     def _close(self) -> RunResult:
-        result = RunResult(self._done or "stopped", self._state, self.time, self.cycle,
+        result = RunResult(self._done or "stopped", self.state, self.time, self.cycle,
                            list(self._transitions), np.array(self._cycle_times),
                            np.array(self._compute_times), self._qp_failures, self._overruns,
                            self._message)
