@@ -13,6 +13,12 @@ VALID = sorted((REPO / "tests" / "fixtures" / "valid").glob("*.mission"))
 CACHE = WorldCache()
 
 
+@pytest.fixture(autouse=True)
+def _in_repository(monkeypatch):
+    """Messages name other files relative to the working folder: the repository's."""
+    monkeypatch.chdir(REPO)
+
+
 def _line(diagnostic) -> str:
     name = Path(diagnostic.file).name
     where = f"{diagnostic.span.line}:{diagnostic.span.column}:" if diagnostic.span else ""
@@ -20,8 +26,9 @@ def _line(diagnostic) -> str:
 
 
 def test_there_are_at_least_forty_broken_missions():
-    """The corpus covers the checks with many examples."""
+    """The corpus covers the checks with many examples, thirty of them composite."""
     assert len(INVALID) >= 40
+    assert len([p for p in INVALID if p.stem.startswith("composite_")]) >= 30
 
 
 @pytest.mark.parametrize("path", INVALID, ids=lambda p: p.stem)
@@ -31,6 +38,8 @@ def test_invalid_fixture(path):
     result = check_file(path, cache=CACHE)
     assert [_line(d) for d in result.diagnostics] == expected
     assert all(d.source_line for d in result.diagnostics if d.span)
+    if path.stem.startswith("composite_"):
+        assert all(d.span is not None for d in result.diagnostics)
 
 
 @pytest.mark.parametrize("path", VALID, ids=lambda p: p.stem)
@@ -41,14 +50,14 @@ def test_valid_fixture(path):
 
 def test_every_documented_code_has_a_fixture():
     """docs/diagnostics.md lists each code once, and the fixtures exercise them all."""
-    documented = re.findall(r"^### `([a-z-]+)`", (REPO / "docs" / "diagnostics.md")
-                            .read_text(), flags=re.MULTILINE)
+    text = (REPO / "docs" / "diagnostics.md").read_text()
+    documented = re.findall(r"^### `([a-z-]+)`", text, flags=re.MULTILINE)
     assert len(documented) == len(set(documented))
     exercised = {m for p in INVALID
                  for m in re.findall(r"\[([a-z-]+)\]", p.with_suffix(".expected").read_text())}
-    world_codes = set(re.findall(r"^### `([a-z-]+)`", (REPO / "docs" / "diagnostics.md")
-                                 .read_text().split("## World files", 1)[1], flags=re.MULTILINE))
-    not_from_fixtures = {"unreadable-file"} | world_codes
+    world_and_campaign = set(re.findall(r"^### `([a-z-]+)`", text.split("## World files", 1)[1],
+                                        flags=re.MULTILINE))
+    not_from_fixtures = {"unreadable-file"} | world_and_campaign
     assert set(documented) - not_from_fixtures <= exercised
     assert exercised <= set(documented)
 

@@ -87,22 +87,26 @@ def _value(reference: ast.Reference, bindings: dict[str, Binding]):
 
 def resolve_vector(ctx: CheckContext, vector: ast.Vector,
                    bindings: dict[str, Binding]) -> ast.Vector:
-    """A vector whose named elements are replaced by their numbers, in SI."""
+    """A vector whose named elements are replaced by their numbers, in SI; ``vector``
+    itself (names left in it) after reporting names that are not numbers."""
     unit = lookup(vector.unit.text) if vector.unit else None
     scale = unit.to_si if unit else 1.0
     dimensions = {unit.dimension} if unit else set()
-    values = []
+    values, ok = [], True
     for element in vector.values:
         if not isinstance(element, ast.NameElement):
             values.append(element * scale)
             continue
         number = _element(ctx, element, bindings)
         if number is None:
-            return vector
+            ok = False
+            continue
         value, dimension = number
         if dimension is not None:
             dimensions.add(dimension)
         values.append(-value if element.negative else value)
+    if not ok:
+        return vector
     if len(dimensions) > 1:
         ctx.error("mixed-dimensions", "the elements of a vector must share one dimension, "
                   "not " + " and ".join(sorted(dimensions)), vector.span,
@@ -119,20 +123,20 @@ def _element(ctx: CheckContext, element: ast.NameElement, bindings: dict[str, Bi
     reporting a name that is not a number."""
     name = element.name
     binding = bindings.get(name.text)
+    value = binding.value if binding is not None else None
+    if (binding is None and name.text in ctx.generic) or ctx.opaque(value):
+        return 0.0, None
     if binding is None:
-        if name.text in ctx.generic:
-            return 0.0, None
         numbers = [b.name for b in bindings.values() if isinstance(b.value, ast.Quantity)]
         ctx.error("unknown-name", f"unknown constant '{name.text}'", name.span,
                   did_you_mean(name.text, numbers) or "declare it: let NAME = VALUE")
         return None
-    if not isinstance(binding.value, ast.Quantity):
+    if not isinstance(value, ast.Quantity):
         ctx.error("wrong-value", f"'{name.text}' is not a number: it cannot stand in a "
                   "vector", name.span, f"'{name.text}' is declared at "
                   f"{ctx.where(binding.span)}")
         return None
-    unit = lookup(binding.value.unit.text) if binding.value.unit else None
-    if binding.value.unit is not None and unit is None:
-        return None
-    return (binding.value.value * (unit.to_si if unit else 1.0),
-            unit.dimension if unit else None)
+    unit = lookup(value.unit.text) if value.unit else None
+    if value.unit is not None and unit is None:
+        return 0.0, None
+    return value.value * (unit.to_si if unit else 1.0), unit.dimension if unit else None

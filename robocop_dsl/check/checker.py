@@ -12,7 +12,7 @@ from .context import CheckContext
 from .controllers import check_assignment
 from .declarations import check_controller, check_declarations, check_header, collect_symbols
 from .expand import Expander
-from .graph_checks import check_state_graph
+from .graph_checks import check_behavior_graph, check_state_graph
 from .imports import merge_imports
 from .regions import check_regions
 from .states import check_machine, check_machines
@@ -40,28 +40,37 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None,
     check_assignment(ctx, expanded)
     check_machines(ctx, expanded)
     check_regions(ctx, expanded.machine)
-    own = {b.name.text for b in mission.behaviors}
-    for machine, generic in expander.unused_behaviors(merged, own):
+    base = ctx.generic
+    for name, machine, generic in expander.unused_behaviors():
         ctx.generic = generic
         ctx.all_states = state_names(machine)
         check_machine(ctx, machine, ())
         check_regions(ctx, machine)
-    ctx.generic = frozenset()
+        ctx.unused.append((expander.behaviors[name].name, machine))
+    ctx.generic = base
     ctx.expanded = expanded
     return ctx
 
 
-def state_names(machine: ast.Machine) -> set[str]:
-    """Every state name of a machine, at any depth."""
-    names = set()
+def state_names(machine: ast.Machine, owner: str | None = None,
+                names: dict | None = None) -> dict[str, str | None]:
+    """Every state name of a machine at any depth, with the state whose machine holds
+    it (``None`` at the top; the first declaration of a name)."""
+    names = {} if names is None else names
     for state in machine.states:
-        names.add(state.name.text)
+        names.setdefault(state.name.text, owner)
         for region in state.regions:
             if region.machine is not None:
-                names |= state_names(region.machine)
+                state_names(region.machine, state.name.text, names)
     return names
 
 
 def check_graph(ctx: CheckContext, mission: ast.Mission, graph: nx.DiGraph) -> None:
-    """Add the state-graph checks (reachability, shadowed clauses...) to ``ctx``."""
+    """Add the state-graph checks (reachability, shadowed clauses...) to ``ctx``, for
+    the mission's machines and for the behaviours that no instance exposes; none when
+    an imported file has a syntax error (a dropped statement would distort the graph)."""
+    if not ctx.imports_parsed:
+        return
     check_state_graph(ctx, mission, graph)
+    for name, machine in ctx.unused:
+        check_behavior_graph(ctx, name, machine)

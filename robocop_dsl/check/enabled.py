@@ -1,10 +1,11 @@
 """What may be enabled while a state's clauses are checked, on some path to it.
 
 Per machine, parents first: a machine starts with what may be enabled inside its owner
-state (the mission's with its constraints); a state adds what its ``enter`` and
-``during`` blocks enable and what any state nested in it may enable, removes what they
-disable, and hands what its ``exit`` leaves to the states its clauses lead to. A
-parallel state's regions also see what their sibling regions may enable.
+state (the mission's with its constraints; a machine whose owner cannot be reached is
+left out); a state adds what its ``enter`` and ``during`` blocks enable and what any
+state nested in it may enable, removes what they disable, and hands what its ``exit``
+leaves to the states its clauses lead to. A parallel state's regions also see what their
+sibling regions may enable.
 """
 
 from __future__ import annotations
@@ -27,8 +28,12 @@ def _apply(blocks, enabled: frozenset[str]) -> frozenset[str]:
     return frozenset(result)
 
 
-def enabled_within(state: ast.StateDecl) -> frozenset[str]:
-    """Everything the states nested in ``state`` enable somewhere, at any depth."""
+def enabled_within(state: ast.StateDecl, memo: dict | None = None) -> frozenset[str]:
+    """Everything the states nested in ``state`` enable somewhere, at any depth
+    (``memo`` keeps the answers by state, for a walk over many states)."""
+    memo = {} if memo is None else memo
+    if id(state) in memo:
+        return memo[id(state)]
     found = set()
     for region in state.regions:
         for inner in region.machine.states if region.machine is not None else ():
@@ -36,28 +41,33 @@ def enabled_within(state: ast.StateDecl) -> frozenset[str]:
             for transition in inner.transitions:
                 found |= {n.text for a in transition.actions if isinstance(a, ast.Enable)
                           for n in a.names}
-            found |= enabled_within(inner)
-    return frozenset(found)
+            found |= enabled_within(inner, memo)
+    memo[id(state)] = frozenset(found)
+    return memo[id(state)]
 
 
 def may_be_enabled(ctx: CheckContext, graph: nx.DiGraph, decls: dict) -> dict[str, frozenset]:
     """Per state path: what may be enabled while its clauses are checked."""
     inside: dict[str, frozenset[str]] = {}
+    memo: dict = {}
     for info in graph.graph["machines"].values():
         if info.start is None:
             continue
         if info.owner is None:
             initial = frozenset(ctx.symbols.constraints)
+        elif info.owner not in inside:
+            continue
         else:
             initial = inside.get(info.owner, frozenset())
             owner = decls[info.owner]
             if owner.parallel:
-                initial |= enabled_within(owner)
-        _machine(graph, info, decls, initial, inside)
+                initial |= enabled_within(owner, memo)
+        _machine(graph, info, decls, initial, inside, memo)
     return inside
 
 
-def _machine(graph: nx.DiGraph, info, decls: dict, initial: frozenset, inside: dict) -> None:
+def _machine(graph: nx.DiGraph, info, decls: dict, initial: frozenset, inside: dict,
+             memo: dict) -> None:
     sub = machine_graph(graph, info.path)
     arriving: dict[str, frozenset[str]] = {p: frozenset() for p in info.states}
     arriving[info.start] = initial
@@ -66,7 +76,7 @@ def _machine(graph: nx.DiGraph, info, decls: dict, initial: frozenset, inside: d
         path = pending.pop()
         state = decls[path]
         inside[path] = _apply((state.block("enter"), state.block("during")),
-                              arriving[path]) | enabled_within(state)
+                              arriving[path]) | enabled_within(state, memo)
         leaving = _apply((state.block("exit"),), inside[path])
         for successor in sub.successors(path):
             merged = arriving[successor] | leaving

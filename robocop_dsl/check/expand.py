@@ -22,6 +22,7 @@ from .context import CheckContext
 
 
 def declared_behaviors(ctx: CheckContext, mission: ast.Mission) -> dict[str, ast.BehaviorDecl]:
+    """The behaviours by name, the first of each; one with no state is reported."""
     behaviors: dict[str, ast.BehaviorDecl] = {}
     for behavior in mission.behaviors:
         first = behaviors.get(behavior.name.text)
@@ -30,6 +31,10 @@ def declared_behaviors(ctx: CheckContext, mission: ast.Mission) -> dict[str, ast
                       behavior.name.span, f"first declared at {ctx.where(first.span)}")
             continue
         behaviors[behavior.name.text] = behavior
+        if not behavior.machine.states:
+            ctx.error("missing-declaration", f"behavior '{behavior.name.text}' declares no "
+                      "state", behavior.name.span, "add: state NAME { ... } and a final: "
+                      "its outcome")
     return behaviors
 
 
@@ -64,14 +69,16 @@ class Expander:
         """The behaviours that no instance exposes, each expanded with generic bindings
         (see :func:`generic_bindings`): its name, its machine and the names that stand
         for any value while it is checked. One that only such a behaviour instantiates
-        is exposed through it."""
+        is exposed through it; a recursive one is checked with its recursive instances
+        left unexpanded."""
         found = []
         callers = {name: {i.behavior.text for i in instantiated(b.machine)}
                    for name, b in self.behaviors.items()}
         while True:
-            pending = [n for n in self.behaviors if n not in self.exposed
-                       and n not in self.recursive and n not in {f[0] for f in found}]
-            roots = [n for n in pending if not any(n in callers[c] for c in pending)]
+            checked = self.exposed | {f[0] for f in found}
+            pending = [n for n in self.behaviors if n not in checked]
+            roots = [n for n in pending if not any(
+                n in callers[c] for c in pending if c not in self.recursive)]
             if not roots:
                 return found
             name = roots[0]

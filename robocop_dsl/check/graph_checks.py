@@ -6,52 +6,91 @@ a reachable state with no clause at all, in the mission's own machine) is an err
 so is a parallel state whose ``done`` is read but can never hold; dead code and probable
 mistakes (an unreachable state, a state that can only loop, a nested machine with no
 final, a final that no clause of the parent reads, a clause that never fires, a task
-read before any state enables it) are warnings.
+read before any state enables it) are warnings. A problem in a behaviour instance's
+machine carries the notes naming the instances it is in.
 """
 
 from __future__ import annotations
 
 import networkx as nx
 
-from ..compile.state_graph import MachineInfo, machine_graph
+from ..compile.state_graph import MachineInfo, build_state_graph, machine_graph
 from ..lang import ast
 from .conditions import tasks_read
 from .context import CheckContext
 from .enabled import may_be_enabled
+from .expand import instance_note
 
 _NON_NEGATIVE = (ast.Elapsed, ast.Time, ast.Distance, ast.Member)
 
 
 def check_state_graph(ctx: CheckContext, mission: ast.Mission, graph: nx.DiGraph) -> None:
     """Run every graph check on ``graph`` (built from the expanded ``mission``)."""
-    decls = declarations(mission.machine)
+    decls = declarations(ctx, mission.machine)
     for info in graph.graph["machines"].values():
         _check_machine(ctx, graph, info, decls)
     _check_shadowed(ctx, decls, mission.machine)
     if graph.graph["machines"].get(""):
         _check_enabled(ctx, graph, decls)
+    ctx.notes = ()
 
 
-def declarations(machine: ast.Machine, path: str = "") -> dict:
-    """Every state declaration by path (the graph's paths), and every machine by
-    ``("machine", path)``."""
-    found: dict = {("machine", path): machine}
+def check_behavior_graph(ctx: CheckContext, name: ast.Name, machine: ast.Machine) -> None:
+    """The graph checks of a behaviour's machine checked on its own: its machines'
+    reachability and finals, the outcomes its nested states leave unread, shadowed
+    clauses."""
+    wrapper = ast.StateDecl(name, regions=(ast.Region(None, machine=machine),),
+                            span=name.span)
+    root = ast.Machine((wrapper,))
+    graph = build_state_graph(ast.Mission((wrapper,)))
+    graph.graph["behavior"] = True
+    decls = declarations(ctx, root)
+    for info in graph.graph["machines"].values():
+        if info.owner is not None:
+            _check_machine(ctx, graph, info, decls, outcomes=info.owner != name.text)
+    _check_shadowed(ctx, decls, root)
+    ctx.notes = ()
+
+
+def declarations(ctx: CheckContext, machine: ast.Machine, path: str = "",
+                 notes: tuple[str, ...] = (), found: dict | None = None) -> dict:
+    """Every state declaration by path (the graph's paths), every machine by
+    ``("machine", path)``, its top-level clauses by ``("guards", path)`` and the notes
+    naming the instances it is in by ``("notes", path)``."""
+    found = {} if found is None else found
+    found.setdefault(("machine", path), machine)
+    found.setdefault(("guards", path), tuple(machine.guards))
+    found.setdefault(("notes", path), notes)
     for state in machine.states:
         state_path = f"{path}/{state.name.text}" if path else state.name.text
         found.setdefault(state_path, state)
         for region in state.regions:
             inner = f"{state_path}/{region.name.text}" if region.name else state_path
             if region.machine is not None:
-                for key, value in declarations(region.machine, inner).items():
-                    found.setdefault(key, value)
+                own = (instance_note(ctx, region.instance),) if region.instance else ()
+                declarations(ctx, region.machine, inner, own + notes, found)
     return found
 
 
+def _located(ctx: CheckContext, decls: dict, machine_path: str) -> None:
+    """Give the diagnostics that follow the notes of the machine at ``machine_path``."""
+    ctx.notes = decls.get(("notes", machine_path), ())
+
+
+def _machine_text(graph: nx.DiGraph, info: MachineInfo) -> str:
+    owner = graph.nodes[info.owner]["name"]
+    if info.region:
+        return f"region '{info.region}' of '{owner}'"
+    return f"the machine of '{owner}'" if graph.nodes[info.owner]["machine"] or \
+        not graph.graph.get("behavior") else f"behavior '{owner}'"
+
+
 def _check_machine(ctx: CheckContext, graph: nx.DiGraph, info: MachineInfo,
-                   decls: dict) -> None:
+                   decls: dict, outcomes: bool = True) -> None:
     start = info.start
     if start is None:
         return
+    _located(ctx, decls, info.path)
     root = info.owner is None
     sub = machine_graph(graph, info.path)
     reachable = nx.descendants(sub, start) | {start}
@@ -64,7 +103,7 @@ def _check_machine(ctx: CheckContext, graph: nx.DiGraph, info: MachineInfo,
     finals = {p for p in info.states if graph.nodes[p]["final"]}
     if not finals & reachable:
         report = ctx.error if root else ctx.warning
-        where = "" if root else f" in the machine of '{graph.nodes[info.owner]['name']}'"
+        where = "" if root else f" in {_machine_text(graph, info)}"
         report("no-final-reachable", f"no final state can be reached from "
                f"'{graph.nodes[start]['name']}'{where}", graph.nodes[start]["span"],
                ("the mission would never end: add a path to a 'final NAME' state" if root
@@ -72,7 +111,7 @@ def _check_machine(ctx: CheckContext, graph: nx.DiGraph, info: MachineInfo,
                if finals else "declare one: final done")
     if root:
         _check_ways_out(ctx, sub, reachable, finals)
-    else:
+    elif outcomes:
         _check_outcomes(ctx, graph, info, decls, finals & reachable)
         _check_done(ctx, graph, info, decls, finals & reachable)
 
@@ -96,9 +135,9 @@ def _parent_reads(graph: nx.DiGraph, info: MachineInfo, decls: dict) -> list[ast
     """The members of the owner state's own clauses and its machine's guards that read
     the owner (``S.F``, ``S.R.F``, ``S.done``)."""
     owner = decls[info.owner]
-    parent_machine = decls[("machine", graph.nodes[info.owner]["machine"])]
+    guards = decls[("guards", graph.nodes[info.owner]["machine"])]
     members = []
-    for transition in (*owner.transitions, *parent_machine.guards):
+    for transition in (*owner.transitions, *guards):
         members += [m for m in members_of(transition.condition)
                     if m.owner.text == owner.name.text]
     return members
@@ -139,6 +178,7 @@ def _check_done(ctx, graph: nx.DiGraph, info: MachineInfo, decls: dict, finals: 
     if info.region is None or finals:
         return
     owner = graph.nodes[info.owner]["name"]
+    _located(ctx, decls, graph.nodes[info.owner]["machine"])
     for member in _parent_reads(graph, info, decls):
         if member.field.text == "done" and member.region is None:
             ctx.error("done-never-holds", f"'{owner}.done' can never hold: region "
@@ -170,20 +210,22 @@ def truth(condition: ast.Condition) -> bool | None:
 
 
 def _check_shadowed(ctx: CheckContext, decls: dict, root: ast.Machine) -> None:
-    transitions = []
-    for key, decl in decls.items():
-        if isinstance(decl, ast.StateDecl) and not decl.final:
-            _report_after_always(ctx, decl.transitions, f"in state '{decl.name.text}'")
-            transitions += decl.transitions
-        elif isinstance(decl, ast.Machine) and isinstance(key, tuple):
-            where = "among the top-level clauses" if decl is root else \
-                "among the machine's top-level clauses"
-            _report_after_always(ctx, tuple(decl.guards), where)
-            transitions += decl.guards
-    for transition in dict.fromkeys(transitions):
-        if truth(transition.condition) is False:
-            ctx.warning("shadowed-transition", "this clause never fires: its condition is "
-                        "never true", transition.span)
+    for key, machine in decls.items():
+        if not (isinstance(key, tuple) and key[0] == "machine"):
+            continue
+        _located(ctx, decls, key[1])
+        guards = decls[("guards", key[1])]
+        transitions = list(guards)
+        for state in machine.states:
+            if not state.final:
+                _report_after_always(ctx, state.transitions, f"in state '{state.name.text}'")
+                transitions += state.transitions
+        _report_after_always(ctx, guards, "among the top-level clauses"
+                             if machine is root else "among the machine's top-level clauses")
+        for transition in transitions:
+            if truth(transition.condition) is False:
+                ctx.warning("shadowed-transition", "this clause never fires: its condition "
+                            "is never true", transition.span)
 
 
 def _report_after_always(ctx: CheckContext, transitions, where: str) -> None:
@@ -203,6 +245,7 @@ def _check_enabled(ctx: CheckContext, graph: nx.DiGraph, decls: dict) -> None:
     inside = may_be_enabled(ctx, graph, decls)
     for path in sorted(inside, key=lambda p: graph.nodes[p]["span"].line):
         state = decls[path]
+        _located(ctx, decls, graph.nodes[path]["machine"])
         for transition in state.transitions:
             for task in tasks_read(transition.condition):
                 if task.text in ctx.symbols.tasks and task.text not in inside[path]:
@@ -211,11 +254,11 @@ def _check_enabled(ctx: CheckContext, graph: nx.DiGraph, decls: dict) -> None:
                                 task.span, f"add 'enable {task.text}' to an enter block on "
                                 "the way")
     for info in graph.graph["machines"].values():
-        machine = decls.get(("machine", info.path))
-        if machine is None:
+        if ("guards", info.path) not in decls:
             continue
+        _located(ctx, decls, info.path)
         anywhere = frozenset().union(*(inside[p] for p in info.states if p in inside))
-        for guard in machine.guards:
+        for guard in decls[("guards", info.path)]:
             for task in tasks_read(guard.condition):
                 if task.text in ctx.symbols.tasks and task.text not in anywhere:
                     ctx.warning("task-never-enabled", f"task '{task.text}' is read by a "

@@ -10,18 +10,24 @@ imports is an error at the import that closes it.
 from __future__ import annotations
 
 import os
+from functools import lru_cache
 from pathlib import Path
 
-from ..diagnostics import SourceFile
+from ..diagnostics import SourceFile, did_you_mean
 from ..lang import ast, parse_mission
 from ..world.paths import resolve
 from .context import CheckContext
 from .rewrite import in_file
 
 DECLARATIONS = (ast.Let, ast.TaskDecl, ast.ConstraintDecl, ast.EventDecl, ast.BehaviorDecl)
-_NOT_IN_LIBRARY = ((ast.StateDecl, "a state"), (ast.StartDecl, "'start'"),
-                   (ast.Transition, "a top-level 'when'"), (ast.MissionHeader, "a mission header"),
-                   (ast.ControllerDecl, "a controller"))
+_KEEP = "keep states, 'start' and top-level 'when' clauses in the mission that imports it"
+_NOT_IN_LIBRARY = ((ast.StateDecl, "a state", _KEEP), (ast.StartDecl, "'start'", _KEEP),
+                   (ast.Transition, "a top-level 'when'", _KEEP),
+                   (ast.MissionHeader, "a mission header",
+                    "begin a file of declarations with: library NAME \"what it holds\""),
+                   (ast.ControllerDecl, "a controller",
+                    "name the controller in the mission that imports it"))
+_MACHINE_ITEMS = (ast.StateDecl, ast.StartDecl, ast.Transition)
 MAX_IMPORT_BYTES = 1 << 20
 
 
@@ -36,23 +42,33 @@ def merge_imports(ctx: CheckContext, mission: ast.Mission, folder: Path | None) 
     before its own items; reports imports not found, cycles and statements that an
     imported file may not hold."""
     loader = _Loader(ctx)
-    own = Path(ctx.source.path).resolve() if ctx.source.path not in ("<mission>", "<stdin>") \
-        else None
-    loader.stack = [own] if own else []
+    if ctx.source.path not in ("<mission>", "<stdin>"):
+        loader.stack = [Path(ctx.source.path).resolve()]
     loader.import_all(mission, folder)
+    own = mission.items
     if mission.first(ast.LibraryHeader) is not None:
         check_library(ctx, mission)
-    return ast.Mission(tuple(loader.items) + mission.items, span=mission.span)
+        own = tuple(i for i in own if not isinstance(i, _MACHINE_ITEMS))
+    return ast.Mission(tuple(loader.items) + own, span=mission.span)
 
 
 def check_library(ctx: CheckContext, library: ast.Mission) -> None:
     """Report what a file of declarations may not hold."""
     for item in library.items:
-        for node_type, what in _NOT_IN_LIBRARY:
+        for node_type, what, hint in _NOT_IN_LIBRARY:
             if isinstance(item, node_type):
                 ctx.error("not-in-library", f"{what} in a library: an imported file holds "
-                          "declarations only", item.span, "keep states, 'start' and "
-                          "top-level 'when' clauses in the mission that imports it")
+                          "declarations only", item.span, hint)
+
+
+def _near(name: str, folder: Path | None) -> str | None:
+    """"did you mean" among the mission files beside the one named."""
+    where = (folder / name).parent if folder is not None else None
+    if where is None or not where.is_dir():
+        return None
+    prefix = name.rpartition("/")[0]
+    candidates = [f"{prefix}/{p.name}" if prefix else p.name for p in where.glob("*.mission")]
+    return did_you_mean(name, candidates)
 
 
 class _Loader:
@@ -71,8 +87,8 @@ class _Loader:
         path = resolve(name, folder) if name else None
         if path is None or not path.is_file():
             ctx.error("import-not-found", f"imported file '{name}' not found", item.path.span,
-                      "looked beside the importing file, in the package's robots/ and in "
-                      "ROBOCOP_PATH folders")
+                      _near(name, folder) or "looked beside the importing file, in the "
+                      "package's robots/ and in ROBOCOP_PATH folders")
             return
         path = path.resolve()
         if path in self.stack:
@@ -102,7 +118,16 @@ class _Loader:
             self.ctx.error("import-not-found", f"cannot read imported file '{item.path.text}': "
                            f"{getattr(error, 'strerror', None) or error}", item.path.span)
             return None
-        parsed = parse_mission(text, shown)
+        tree, diagnostics = parsed_library(text, shown)
         self.ctx.sources[shown] = SourceFile(shown, text)
-        self.ctx.diagnostics += parsed.diagnostics
-        return in_file(parsed.mission, shown)
+        self.ctx.diagnostics += diagnostics
+        self.ctx.imports_parsed = self.ctx.imports_parsed and not diagnostics
+        return tree
+
+
+@lru_cache(maxsize=32)
+def parsed_library(text: str, shown: str) -> tuple[ast.Mission, tuple]:
+    """The tree of an imported file (its spans naming it) and its syntax diagnostics;
+    a file imported by many missions checked together is parsed once."""
+    parsed = parse_mission(text, shown)
+    return in_file(parsed.mission, shown), tuple(parsed.diagnostics)

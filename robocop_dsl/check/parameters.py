@@ -35,6 +35,8 @@ class Subject:
 def check_value(ctx: CheckContext, parameter: Parameter, value: ast.Value, subject: Subject,
                 what: str) -> None:
     """Check one value given to ``parameter`` (of a declaration, a call or an action)."""
+    if ctx.opaque(value):
+        return
     dimensions = space_dimensions(parameter.dimension, subject.space, subject.joints)
     if parameter.kind == SCALAR:
         if not isinstance(value, ast.Quantity):

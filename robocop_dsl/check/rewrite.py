@@ -9,6 +9,26 @@ from typing import Callable
 from ..diagnostics import Span
 from ..lang import ast
 
+_CHILDREN: dict[type, tuple[str, ...]] = {}
+
+
+def _children(kind: type) -> tuple[str, ...]:
+    """The fields of a node type that may hold nodes (every field but ``span``)."""
+    names = _CHILDREN.get(kind)
+    if names is None:
+        names = tuple(f.name for f in dataclasses.fields(kind) if f.name != "span")
+        _CHILDREN[kind] = names
+    return names
+
+
+def replace(node, **changes):
+    """A copy of the frozen node ``node`` with ``changes`` (``dataclasses.replace``
+    without re-running ``__init__``: the fields are known to be valid)."""
+    new = object.__new__(type(node))
+    new.__dict__.update(node.__dict__)
+    new.__dict__.update(changes)
+    return new
+
 
 def rebuild(node, visit: Callable):
     """``node`` rebuilt bottom-up: every child node (in fields and tuples) first, then
@@ -19,14 +39,13 @@ def rebuild(node, visit: Callable):
     if not isinstance(node, ast.Node):
         return node
     changes = {}
-    for field in dataclasses.fields(node):
-        if field.name == "span":
-            continue
-        value = getattr(node, field.name)
-        new = rebuild(value, visit)
-        if new is not value:
-            changes[field.name] = new
-    return visit(dataclasses.replace(node, **changes) if changes else node)
+    for name in _children(type(node)):
+        value = getattr(node, name)
+        if isinstance(value, (ast.Node, tuple)):
+            new = rebuild(value, visit)
+            if new is not value:
+                changes[name] = new
+    return visit(replace(node, **changes) if changes else node)
 
 
 def in_file(node, path: str):
@@ -35,11 +54,12 @@ def in_file(node, path: str):
         span = child.span
         if span.file == path:
             return child
-        return dataclasses.replace(child, span=dataclasses.replace(span, file=path))
+        return replace(child, span=Span(span.line, span.column, span.end_line,
+                                        span.end_column, path))
     return rebuild(node, tag)
 
 
 def at(node, span: Span):
     """``node`` with every span replaced by ``span`` (a value substituted where it is
     used, so that problems with it are reported there)."""
-    return rebuild(node, lambda child: dataclasses.replace(child, span=span))
+    return rebuild(node, lambda child: replace(child, span=span))

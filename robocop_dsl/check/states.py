@@ -11,6 +11,8 @@ from .expand import instance_note
 from .parameters import check_body, check_value
 
 OUTCOMES = ("success", "failure")
+_DECLARE = ("declare it: task NAME: TYPE(SUBJECT) { ... } or constraint NAME: TYPE(...), "
+            "or import the file that does")
 _FINAL_PARTS = ("enter",)
 DONE = "done"
 
@@ -32,6 +34,11 @@ def check_machine(ctx: CheckContext, machine: ast.Machine, scope: tuple,
                       state.name.span, f"first declared at {ctx.where(first.name.span)}")
             continue
         local[state.name.text] = state
+        task = ctx.symbols.tasks.get(state.name.text)
+        if task is not None and (state.regions or state.instance is not None):
+            ctx.error("duplicate-name", f"state '{state.name.text}' has the name of a task",
+                      state.name.span, f"'{state.name.text}.FIELD' would read the state or "
+                      f"the task declared at {ctx.where(task.name.span)}: rename the state")
     scope = (local, *scope)
     _check_start(ctx, machine, local, root)
     for state in machine.states:
@@ -65,8 +72,8 @@ def _check_start(ctx: CheckContext, machine: ast.Machine, local: dict, root: boo
                     "it ends as soon as it starts")
 
 
-def _states_hint(local: dict) -> str:
-    states = [n for n, s in local.items() if not s.final]
+def _states_hint(local: dict, finals: bool = False) -> str:
+    states = [n for n, s in local.items() if finals or not s.final]
     return "states: " + ", ".join(states) if states else "declare a state first"
 
 
@@ -90,21 +97,31 @@ def _check_state(ctx: CheckContext, state: ast.StateDecl, scope: tuple, root: bo
     if state.parallel and not state.regions:
         ctx.error("missing-declaration", f"parallel state '{state.name.text}' has no region",
                   state.name.span, "add: region NAME { ... } or region NAME: BEHAVIOR(...)")
+    regions: dict[str, ast.Region] = {}
     for region in state.regions:
-        _check_region(ctx, region, scope)
+        name = region.name.text if region.name else None
+        if name in regions:
+            ctx.error("duplicate-name", f"region '{name}' is already declared in "
+                      f"'{state.name.text}'", region.name.span,
+                      f"first declared at {ctx.where(regions[name].name.span)}")
+            continue
+        regions[name] = region
+        _check_region(ctx, state, region, scope)
 
 
-def _check_region(ctx: CheckContext, region: ast.Region, scope: tuple) -> None:
+def _check_region(ctx: CheckContext, state: ast.StateDecl, region: ast.Region,
+                  scope: tuple) -> None:
     if region.name is not None and region.name.text == DONE:
         ctx.error("region-named-done", "a region cannot be named 'done'", region.name.span,
                   "S.done already means: every region is in a final state")
     if region.machine is None:
         return
-    notes = ctx.notes
+    notes, owner = ctx.notes, ctx.owner
     if region.instance is not None:
         ctx.notes = (instance_note(ctx, region.instance), *notes)
+    ctx.owner = state.name.text + (f".{region.name.text}" if region.name else "")
     check_machine(ctx, region.machine, scope)
-    ctx.notes = notes
+    ctx.notes, ctx.owner = notes, owner
 
 
 def _check_final(ctx: CheckContext, state: ast.StateDecl, root: bool) -> None:
@@ -141,14 +158,20 @@ def check_transition(ctx: CheckContext, transition: ast.Transition, local: dict)
     target = transition.target
     if target.text in local:
         return
-    if any(target.text in machine for machine in ctx.scope[1:]) \
-            or target.text in ctx.all_states:
-        ctx.error("transition-out-of-machine", f"'{target.text}' is not a state of this "
-                  "machine: a clause leads to a state of its own machine", target.span,
-                  "leave a nested machine through a final ('final NAME') and a clause of "
-                  f"its parent state ('when S.NAME -> {target.text}')")
+    holder = ctx.all_states.get(target.text)
+    if any(target.text in machine for machine in ctx.scope[1:]) and ctx.owner:
+        state, _, region = ctx.owner.partition(".")
+        machine = f"region '{region}' of '{state}'" if region else f"the machine of '{state}'"
+        hint = (f"leave {machine} through a final ('final NAME') and a clause of '{state}': "
+                f"when {ctx.owner}.NAME -> {target.text}")
+    elif holder is not None:
+        hint = (f"'{target.text}' is in the machine of '{holder}': lead to '{holder}', whose "
+                "machine begins in its start state")
+    else:
+        ctx.unknown("unknown-state", "state", target, local, _states_hint(local, True))
         return
-    ctx.unknown("unknown-state", "state", target, local)
+    ctx.error("transition-out-of-machine", f"'{target.text}' is not a state of this machine: "
+              "a clause leads to a state of its own machine", target.span, hint)
 
 
 def check_action(ctx: CheckContext, action: ast.Action) -> None:
@@ -158,7 +181,7 @@ def check_action(ctx: CheckContext, action: ast.Action) -> None:
             if name.text not in ctx.symbols.tasks and name.text not in ctx.symbols.constraints \
                     and name.text not in ctx.generic:
                 ctx.unknown("unknown-task", "task or constraint", name,
-                            ctx.symbols.controlled())
+                            ctx.symbols.controlled(), _DECLARE)
     elif isinstance(action, ast.Reset):
         for name in action.names:
             if name.text in ctx.symbols.constraints:
@@ -203,6 +226,6 @@ def _check_assign(ctx: CheckContext, action: ast.Assign) -> None:
                         where=f" of {subject.kind.name} task '{owner}'"
                         if owner in ctx.symbols.tasks else f" of constraint '{owner}'")
         return
-    if isinstance(action.value, ast.Reference) and action.value.name.text in ctx.generic:
+    if ctx.opaque(action.value):
         return
     check_value(ctx, parameter, action.value, subject, f"'{owner}.{action.field.text}'")

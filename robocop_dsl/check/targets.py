@@ -126,6 +126,8 @@ def _check_pose(ctx: CheckContext, call: ast.Call, space: str, kind: Kind) -> No
             ctx.error("duplicate-name", f"parameter '{name}' is given twice", span)
             continue
         seen.add(name)
+        if ctx.opaque(argument.value):
+            continue
         if not isinstance(argument.value, ast.Vector):
             ctx.error("wrong-value", f"'{name}' expects a vector [x, y, z]",
                       argument.value.span)

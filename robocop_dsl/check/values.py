@@ -14,6 +14,8 @@ from ..lang.units import (ANGLE, ANGULAR_ACCELERATION, ANGULAR_VELOCITY, DIMENSI
                           describe, lookup)
 from .context import CheckContext, Joints, finite
 
+_LENGTHS = {3: "write three values: [x, y, z] or [roll, pitch, yaw]",
+            6: "write six values: [vx, vy, vz, wx, wy, wz]"}
 _RATES = {ANGLE: (ANGULAR_VELOCITY, ANGULAR_ACCELERATION),
           LENGTH: (LINEAR_VELOCITY, LINEAR_ACCELERATION)}
 
@@ -98,8 +100,8 @@ def check_vector(ctx: CheckContext, vector: ast.Vector, dimensions: tuple[str, .
         return None
     if length is not None and len(vector.values) != length:
         ctx.error("wrong-length", f"{what} has {len(vector.values)} values, expected {length}",
-                  vector.span, f"one value per degree of freedom ({length})"
-                  if length not in (3, 6) else None)
+                  vector.span, _LENGTHS.get(length, f"one value per degree of freedom "
+                                                    f"({length})"))
         return None
     if not all(map(finite, vector.values)):
         ctx.error("bad-number", f"{what} has a value too large", vector.span)
