@@ -31,23 +31,27 @@ def test_pickup_succeeds_with_the_seed_sequence(tmp_path):
     assert "outcome: success  final state: done" in out
     rows = [[cell.strip() for cell in line.split("│")] for line in out.splitlines()
             if line.count("│") == 3]
-    assert [(row[1], row[2]) for row in rows] == [
+    steps = ["approach", "grasp", "lift", "move_to_drop", "release"]
+    assert [(row[1], row[2]) for row in rows if "/" not in row[1]] == [
         ("goto_initial_pose", "approach"), ("approach", "grasp"), ("grasp", "lift"),
         ("lift", "move_to_drop"), ("move_to_drop", "release"), ("release", "return"),
         ("return", "done")]
+    assert [(row[1], row[2]) for row in rows if "/" in row[1]] == [
+        (f"{step}/moving", f"{step}/there") for step in steps]
     assert "QP failures: 0" in out
     transitions = [e for e in read_events(tmp_path / "log") if e["kind"] == "transition"]
-    assert [e["to"] for e in transitions] == ["approach", "grasp", "lift", "move_to_drop",
-                                              "release", "return", "done"]
+    assert [e["to"] for e in transitions if "/" not in e["to"]] == [
+        "approach", "grasp", "lift", "move_to_drop", "release", "return", "done"]
     data = read_timeseries(tmp_path / "log")
     end = [e for e in read_events(tmp_path / "log") if e["kind"] == "end"][0]
     assert end["outcome"] == "success"
     assert len(data["time"]) == end["cycle"]
-    assert set(data["state"]) == {"goto_initial_pose", "approach", "grasp", "lift",
-                                  "move_to_drop", "release", "return", "done"}
+    assert set(data["state"]) == {"goto_initial_pose", "return", "done",
+                                  *(f"{step}/{leaf}" for step in steps
+                                    for leaf in ("moving", "there"))}
     assert "error.left_tool" in data and "reference.left_tool.5" in data
     assert "q.bazar_left_joint_1" in data and "command.bazar_ptu_joint_tilt" in data
-    grasp = data["state"] == "grasp"
+    grasp = data["state"] == "grasp/moving"
     assert np.nanmin(data["error.left_tool"][grasp]) < 1e-3
     assert data["solved"].all()
 

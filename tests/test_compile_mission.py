@@ -54,29 +54,37 @@ def test_constraint_specs_take_urdf_defaults(pickup):
 
 
 def test_actions_in_si(pickup):
-    """Targets and offsets are converted to metres and radians."""
+    """Targets and offsets are converted to metres and radians, constants and behaviour
+    arguments bound where they are used."""
     enter = pickup.states["approach"].enter
     assert enter[0] == spec.EnableAction(("left_tool",), span=enter[0].span)
-    assert enter[1].target == spec.BodyTarget("pickup_point", (0.0, 0.0, 0.1))
+    moving = pickup.states["approach/moving"].enter
+    assert moving[0].target == spec.BodyTarget("pickup_point", (0.0, 0.0, 0.1))
     initial = pickup.states["goto_initial_pose"]
     assert initial.enter[1].target.values[3] == -2.0
     assert initial.during[0] == spec.SetParameterAction("arms", "gain", 10.0,
                                                         span=initial.during[0].span)
-    assert pickup.states["grasp"].exit[0] == spec.AttachAction(
-        "part_body", "bazar_left_hankamp_tool_object_side", span=None)
+    [to_lift] = [t for t in pickup.states["grasp"].transitions if t.target == "lift"]
+    assert to_lift.actions == (spec.AttachAction(
+        "part_body", "bazar_left_hankamp_tool_object_side", span=None),)
 
 
 def test_transitions_in_order_then_guards(pickup):
-    """A state's own clauses in writing order; the top-level guards on the machine."""
+    """A state's own clauses in writing order; the top-level guards on the machine; an
+    instance's machine under the state, its parameters bound."""
     transitions = pickup.states["approach"].transitions + pickup.machine.guards
     assert [(t.target, t.guard) for t in transitions] == [
         ("grasp", False), ("failed", False), ("failed", True)]
-    first = transitions[0]
+    assert transitions[0].condition == spec.FinalCondition("approach", "there")
+    assert transitions[2].condition == spec.ControllerFailedCondition()
+    [machine] = pickup.states["approach"].machines
+    assert (machine.path, machine.start, list(machine.states)) == (
+        "approach", "moving", ["moving", "there", "late"])
+    first = pickup.states["approach/moving"].transitions[0]
     assert first.text == "left_tool.reached and left_tool.error < 2 mm"
     assert first.condition == spec.AllCondition((
         spec.ReachedCondition("left_tool"),
         spec.CompareCondition(spec.TaskMeasure("left_tool", "error"), "<", 0.002)))
-    assert transitions[2].condition == spec.ControllerFailedCondition()
     assert pickup.states["done"].transitions == ()
     assert pickup.states["failed"].outcome == "failure"
 
@@ -87,10 +95,12 @@ def test_state_graph_edges_carry_condition_and_span(pickup):
     assert graph.graph["start"] == "goto_initial_pose"
     edge = graph.edges["goto_initial_pose", "approach"]
     assert edge["condition"] == "arms.reached"
-    assert edge["span"].line == 41
+    assert edge["span"].line == 56
     failing = graph.edges["grasp", "failed"]
     assert [c.guard for c in failing["clauses"]] == [False, True]
-    assert failing["condition"] == "(elapsed > 10 s) or (controller.failed)"
+    assert failing["condition"] == "(grasp.late) or (controller.failed)"
+    assert graph.edges["grasp/moving", "grasp/late"]["condition"] == "elapsed > 10 s"
+    assert graph.graph["machines"]["grasp"].owner == "grasp"
     assert graph.nodes["failed"] == {"final": True, "outcome": "failure", "start": False,
                                      "span": graph.nodes["failed"]["span"], "kind": "final",
                                      "machine": "", "name": "failed"}
@@ -120,10 +130,12 @@ def test_graph_drawings(pickup):
     dot = to_dot(pickup.graph, pickup.name)
     assert '"__start" -> "goto_initial_pose";' in dot
     assert '"failed" [shape=doublecircle, color=red];' in dot
-    assert '"approach" -> "grasp" [label="left_tool.reached and left_tool.error < 2 mm"];' in dot
+    assert '"approach/moving" -> "approach/there" [label="left_tool.reached and ' \
+        'left_tool.error < 2 mm"];' in dot
     assert dot.count("controller.failed") == 1
     mermaid = to_mermaid(pickup.graph)
     assert mermaid.startswith("stateDiagram-v2\n    [*] --> goto_initial_pose\n")
-    assert "    approach --> grasp : left_tool.reached and left_tool.error #lt; 2 mm\n" in mermaid
+    assert "approach_moving --> approach_there : left_tool.reached and left_tool.error " \
+        "#lt; 2 mm\n" in mermaid
     assert "    __any --> failed : controller.failed\n" in mermaid
     assert "    done --> [*]\n" in mermaid
