@@ -8,6 +8,7 @@ import pytest
 from robocop_dsl.runtime import read_timeseries
 from robocop_dsl.viewer import ReplayRecorder, ViewerError, read_replay, viewer_options
 from robocop_dsl.viewer.geometry import WorldGeometry, body_path
+from robocop_dsl.viewer.labels import label_path
 from viewer_runs import STATES, pickup_run, synthetic_run
 
 PERIOD = 0.04
@@ -269,7 +270,7 @@ def test_pickup_replay_has_every_body_and_enabled_target(bazar, pickup):
             assert not drawn
     shown = {item.state for item in recorder.frame_records}
     assert {s.split("/")[0] for s in shown} == {s.split("/")[0] for s in set(log["state"])}
-    assert {f"/meshcat/states/{s}" for s in shown} <= objects
+    assert {f"/meshcat/{label_path(s)}" for s in shown} <= objects
 
 
 def test_pickup_replay_has_one_frame_per_viewer_period(pickup):
@@ -306,12 +307,12 @@ def test_pickup_replay_targets_and_labels_follow_the_log(pickup):
     _, recorder, commands, log = pickup
     tracks, _ = tracks_by_path(commands)
     target = dict(tracks["/meshcat/targets/left_tool/target"][".visible"])
-    labels = {path.rsplit("/", 1)[1]: dict(properties[".visible"])
+    labels = {path: dict(properties[".visible"])
               for path, properties in tracks.items() if path.startswith("/meshcat/states/")}
     for frame, row in enumerate(frame_rows(log, len(recorder.frame_records))):
         assert target[frame] == (not np.isnan(log["error.left_tool"][row]))
-        assert [state for state, shown in labels.items() if shown[frame]] == \
-            [log["state"][row]]
+        assert [path for path, shown in labels.items() if shown[frame]] == \
+            [f"/meshcat/{label_path(log['state'][row])}"]
 
 
 def test_pickup_part_is_carried_and_left_at_the_drop(bazar, pickup):

@@ -17,7 +17,7 @@ from .behaviors import WORDS, kind_of_name
 from .bindings import Binding, substitute
 from .context import CheckContext, finite
 from .parameters import check_body
-from .values import check_vector, unit_of
+from .values import check_offset, check_vector, unit_of
 
 _LARGEST = "numbers are at most about 1.8e308"
 
@@ -73,7 +73,7 @@ def _check_constant(ctx: CheckContext, let: ast.Let, value, order: dict) -> bool
     elif isinstance(value, ast.Offset):
         if not check_body(ctx, value.body):
             return False
-        return check_vector(ctx, value.offset, (LENGTH,), "an offset", 3) is not None
+        return check_offset(ctx, value) is not None
     return True
 
 

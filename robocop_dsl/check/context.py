@@ -151,9 +151,9 @@ class CheckContext:
     the clause being checked may read, and ``owner`` the state whose machine is being
     checked (``None`` for the mission's or a behaviour checked on its own);
     ``all_states`` every state name of the mission at any depth, with the state
-    whose machine holds it; ``numbers`` the constants that hold a number. ``expanded``
-    is the mission with constants and behaviour instances bound, once checked, and
-    ``unused`` the behaviours that no instance exposes (name and machine, checked with
+    whose machine holds it; ``numbers`` and ``vectors`` the constants that hold a
+    number or a vector. ``expanded`` is the mission with constants and behaviour
+    instances bound, once checked, and ``unused`` the behaviours that no instance exposes (name and machine, checked with
     generic bindings); ``imports_parsed`` is false when an imported file has a syntax
     error.
     """
@@ -171,6 +171,7 @@ class CheckContext:
         self.owner: str | None = None
         self.all_states: dict[str, str | None] = {}
         self.numbers: list[str] = []
+        self.vectors: list[str] = []
         self.expanded = ast.Mission()
         self.unused: list[tuple[ast.Name, ast.Machine]] = []
         self.imports_parsed = True

@@ -48,6 +48,7 @@ class Expander:
         self.ctx = ctx
         self.lets = declared_constants(ctx, mission)
         ctx.numbers = [n for n, b in self.lets.items() if isinstance(b.value, ast.Quantity)]
+        ctx.vectors = [n for n, b in self.lets.items() if isinstance(b.value, ast.Vector)]
         self.base = ctx.generic
         self.behaviors = declared_behaviors(ctx, mission)
         self.bad_defaults = check_behavior_declarations(ctx, self.behaviors, self.lets)

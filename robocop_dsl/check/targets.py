@@ -16,7 +16,7 @@ from ..lang.catalogue import (GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE, ORI
                               Kind)
 from ..lang.units import ANGLE, LENGTH
 from .context import CheckContext, Joints
-from .values import check_vector, space_dimensions
+from .values import check_offset, check_vector, space_dimensions
 
 CURRENT = "current"
 POSE_ARGUMENTS = ("position", "rpy")
@@ -62,7 +62,7 @@ def check_target(ctx: CheckContext, value: ast.Value, kind: Kind, joints: Joints
         _check_body_target(ctx, value.name)
     elif isinstance(value, ast.Offset):
         if _check_body_target(ctx, value.body):
-            check_vector(ctx, value.offset, (LENGTH,), "an offset", 3)
+            check_offset(ctx, value)
     elif isinstance(value, ast.Call):
         _check_pose(ctx, value, space, kind)
     elif space in (JOINT_SPACE, JOINT_VELOCITY_SPACE):

@@ -109,6 +109,21 @@ def check_vector(ctx: CheckContext, vector: ast.Vector, dimensions: tuple[str, .
     return vector_to_si(vector)
 
 
+def check_offset(ctx: CheckContext, offset: ast.Offset) -> tuple[float, ...] | None:
+    """The 3-vector [m] of ``BODY offset VECTOR``; a name left unbound is reported."""
+    vector = offset.offset
+    if isinstance(vector, ast.Reference):
+        if vector.name.text not in ctx.generic:
+            ctx.unknown("unknown-name", "constant", vector.name, ctx.vectors,
+                        "an offset is a vector of lengths, or a constant that holds one")
+        return None
+    if not isinstance(vector, ast.Vector):
+        ctx.error("wrong-value", "an offset is a vector of three lengths", vector.span,
+                  "for example [0, 0, 10] cm")
+        return None
+    return check_vector(ctx, vector, (LENGTH,), "an offset", 3)
+
+
 def check_per_dof(ctx: CheckContext, value: ast.Value, dimensions: tuple[str, ...], what: str,
                   dofs: int | None) -> tuple[float, ...] | None:
     """One number broadcast over ``dofs``, or a vector of one per dof, in SI."""

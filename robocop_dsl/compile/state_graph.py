@@ -116,10 +116,11 @@ def _add_machine(graph: nx.DiGraph, machine: ast.Machine, path: str, owner: str 
             inner_path = join(state_path, inner.name.text) if inner.name else state_path
             _add_machine(graph, region_machine(inner), inner_path, state_path,
                          inner.name.text if inner.name else None)
+    machine_guards = [(g, True) for g in machine.guards]
     for name, state in states.items():
         if state.final:
             continue
-        ordered = [(t, False) for t in state.transitions] + [(g, True) for g in machine.guards]
+        ordered = [(t, False) for t in state.transitions] + machine_guards
         for order, (transition, guard) in enumerate(ordered):
             if transition.target.text not in states:
                 continue

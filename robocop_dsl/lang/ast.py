@@ -67,10 +67,11 @@ class Reference(Node):
 
 @dataclass(frozen=True)
 class Offset(Node):
-    """``BODY offset VECTOR``: a point displaced from a body."""
+    """``BODY offset VECTOR``: a point displaced from a body; the vector may be named
+    (a constant or a behaviour parameter, :class:`Reference`) until the checker binds it."""
 
     body: Name
-    offset: Vector
+    offset: Union[Vector, "Reference"]
 
 
 @dataclass(frozen=True)

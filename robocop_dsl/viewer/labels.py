@@ -15,8 +15,9 @@ FONT_FACE = "sans-serif"
 
 
 def label_path(state: str) -> str:
-    """Meshcat path of a state's label."""
-    return f"{ROOT}/{state}"
+    """Meshcat path of the label of a state or active configuration: one node under
+    ``states``, its paths' ``/`` written ``.`` (a state name has no dot)."""
+    return f"{ROOT}/{state.replace('/', '.')}"
 
 
 class _SpriteMaterial(mg.GenericMaterial):
