@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..diagnostics import DiagnosticError, did_you_mean, sort_key
+from ..diagnostics import DiagnosticError, did_you_mean, sort_key, unique
 from ..world import load_world
 from .spec import CampaignSpec, MissionEntry, VariantEntry
 
@@ -48,7 +48,7 @@ def check_campaign(spec: CampaignSpec, load_mission=None) -> tuple:
     pairings = checker.pairings()
     checker.names()
     if checker.diagnostics:
-        raise DiagnosticError(sorted(_unique(checker.diagnostics), key=sort_key))
+        raise DiagnosticError(sorted(unique(checker.diagnostics), key=sort_key))
     return tuple(pairings)
 
 
@@ -165,13 +165,3 @@ class _Checker:
 
 def _stem(path) -> str:
     return Path(path).name.split(".")[0]
-
-
-def _unique(diagnostics: list) -> list:
-    seen, result = set(), []
-    for diagnostic in diagnostics:
-        key = (diagnostic.file, diagnostic.span, diagnostic.code, diagnostic.message)
-        if key not in seen:
-            seen.add(key)
-            result.append(diagnostic)
-    return result

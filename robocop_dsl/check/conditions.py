@@ -234,14 +234,17 @@ def measure_dimensions(ctx: CheckContext, measure: ast.Measure) -> tuple[str, ..
     return space_dimensions(symbol, subject.space, subject.joints)
 
 
-def tasks_read(condition: ast.Condition) -> list[ast.Name]:
-    """Task names a condition reads (``X.reached``, ``X.error``...), in order."""
+def members_of(condition: ast.Condition) -> list[ast.Member]:
+    """The ``owner.field`` members a condition reads, compared or not, in order."""
     if isinstance(condition, (ast.And, ast.Or)):
-        return [n for operand in condition.operands for n in tasks_read(operand)]
+        return [m for c in condition.operands for m in members_of(c)]
     if isinstance(condition, ast.Not):
-        return tasks_read(condition.operand)
+        return members_of(condition.operand)
     if isinstance(condition, ast.Comparison):
         condition = condition.measure
-    if isinstance(condition, ast.Member) and condition.owner.text != CONTROLLER:
-        return [condition.owner]
-    return []
+    return [condition] if isinstance(condition, ast.Member) else []
+
+
+def tasks_read(condition: ast.Condition) -> list[ast.Name]:
+    """Task names a condition reads (``X.reached``, ``X.error``...), in order."""
+    return [m.owner for m in members_of(condition) if m.owner.text != CONTROLLER]

@@ -16,7 +16,7 @@ import networkx as nx
 
 from ..compile.state_graph import MachineInfo, build_state_graph, machine_graph
 from ..lang import ast
-from .conditions import tasks_read
+from .conditions import members_of, tasks_read
 from .context import CheckContext
 from .enabled import may_be_enabled
 from .expand import instance_note
@@ -141,17 +141,6 @@ def _parent_reads(graph: nx.DiGraph, info: MachineInfo, decls: dict) -> list[ast
         members += [m for m in members_of(transition.condition)
                     if m.owner.text == owner.name.text]
     return members
-
-
-def members_of(condition: ast.Condition) -> list[ast.Member]:
-    if isinstance(condition, (ast.And, ast.Or)):
-        return [m for c in condition.operands for m in members_of(c)]
-    if isinstance(condition, ast.Not):
-        return members_of(condition.operand)
-    if isinstance(condition, ast.Comparison):
-        return members_of(condition.measure) if isinstance(condition.measure, ast.Member) \
-            else []
-    return [condition] if isinstance(condition, ast.Member) else []
 
 
 def _check_outcomes(ctx, graph: nx.DiGraph, info: MachineInfo, decls: dict,
