@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from robocop_dsl.cli.main import main
+from robocop_dsl.runtime.plot import legend_columns
 from robocop_dsl.runtime.log import RunLogger, read_events, read_timeseries
 from robocop_dsl.runtime.plot import state_spans
 from robocop_dsl.runtime.records import CycleRecord, Event, TaskView
@@ -71,3 +72,12 @@ def test_plot_command_writes_pngs(tmp_path, capsys):
 def test_plot_command_without_a_log(tmp_path, capsys):
     assert main(["plot", str(tmp_path)]) == 1
     assert "no timeseries.parquet here" in capsys.readouterr().err
+
+
+def test_long_configurations_get_fewer_legend_columns():
+    """Configurations of three regions fit across the figure two to a row; short state
+    names eight to a row."""
+    long = ["both/left/above | both/right/above | both/head/look"] * 10
+    assert legend_columns(long) == 2
+    assert legend_columns([f"state_{i}" for i in range(12)]) == 8
+    assert legend_columns(["only"]) == 1

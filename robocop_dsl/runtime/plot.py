@@ -9,6 +9,8 @@ import numpy as np
 
 from .log import read_timeseries
 
+WIDTH = 11.0             # [in] figure width
+LEGEND_CHARACTERS = 150  # characters of the states' legend that fit across the figure
 FIGURES = {
     "joint_positions.png": ("q.", "joint positions [rad or m]"),
     "velocity_commands.png": ("command.", "velocity command [rad/s or m/s]"),
@@ -28,6 +30,13 @@ def state_spans(time: np.ndarray, states: np.ndarray) -> list:
     return spans
 
 
+def legend_columns(names: list) -> int:
+    """How many configurations the states' legend puts on one row, so that long ones
+    (``both/left/above | both/right/down``) stay inside the figure."""
+    longest = max((len(n) for n in names), default=1)
+    return max(1, min(len(names), 8, LEGEND_CHARACTERS // (longest + 6)))
+
+
 def plot_run(folder: str | Path, output: str | Path | None = None) -> list:
     """Write the figures of the run logged in ``folder``; return their paths."""
     import matplotlib
@@ -43,10 +52,13 @@ def plot_run(folder: str | Path, output: str | Path | None = None) -> list:
     names = list(dict.fromkeys(s for s, _, _ in spans))
     palette = plt.get_cmap("tab20")
     colours = {name: palette(i % 20) for i, name in enumerate(names)}
+    columns = legend_columns(names)
+    rows = -(-len(names) // columns)
+    height = 5.5 + 0.22 * rows
     written = []
     for filename, (prefix, label) in FIGURES.items():
         signals = [c for c in data if c.startswith(prefix)]
-        figure, axes = plt.subplots(figsize=(11, 5.5))
+        figure, axes = plt.subplots(figsize=(WIDTH, height))
         for state, start, end in spans:
             axes.axvspan(start, end, color=colours[state], alpha=0.18, linewidth=0)
         for column in signals:
@@ -59,9 +71,9 @@ def plot_run(folder: str | Path, output: str | Path | None = None) -> list:
                         title="signals")
         bands = [plt.Rectangle((0, 0), 1, 1, color=colours[n], alpha=0.35) for n in names]
         if bands:
-            figure.legend(bands, names, loc="lower center", ncol=min(len(names), 8),
-                          fontsize=8, title="states", frameon=False)
-        figure.tight_layout(rect=(0, 0.1 if bands else 0, 1, 1))
+            figure.legend(bands, names, loc="lower center", ncol=columns, fontsize=8,
+                          title="states", frameon=False)
+        figure.tight_layout(rect=(0, (0.45 + 0.17 * rows) / height if bands else 0, 1, 1))
         path = output / filename
         figure.savefig(path, dpi=110)
         plt.close(figure)
