@@ -4,9 +4,8 @@ import numpy as np
 import pytest
 
 from robocop_dsl.cli.main import main
-from robocop_dsl.runtime.plot import legend_columns
 from robocop_dsl.runtime.log import RunLogger, read_events, read_timeseries
-from robocop_dsl.runtime.plot import state_spans
+from robocop_dsl.runtime.plot import legend_columns, state_spans
 from robocop_dsl.runtime.records import CycleRecord, Event, TaskView
 
 
