@@ -8,6 +8,7 @@ import sys
 
 from ..diagnostics import DiagnosticError, render_all
 from ..world import World, load_world
+from ..world.placement import rpy_of
 
 
 def add_parser(subparsers) -> None:
@@ -38,11 +39,23 @@ def _finite(values) -> list:
     return [v if math.isfinite(v) else None for v in map(float, values)]
 
 
+def placements(world: World) -> dict:
+    """Each body's world ``(position [m], rpy [rad])`` at the initial configuration."""
+    poses = world.body_placements(world.initial_configuration())
+    return {name: ([float(v) + 0.0 for v in pose.translation],
+                   [v + 0.0 for v in rpy_of(pose.rotation)])
+            for name, pose in poses.items()}
+
+
 def describe(world: World) -> dict:
-    """The world as plain data (limits in SI, ``None`` where unlimited)."""
+    """The world as plain data: SI units, ``None`` where unlimited, body placements in
+    the world frame at the initial configuration."""
+    where = placements(world)
     return {
         "path": str(world.path),
-        "bodies": [{"name": b, "parent": world.body(b).parent, "joint": world.body(b).joint}
+        "units": {"position": "m", "rpy": "rad"},
+        "bodies": [{"name": b, "parent": world.body(b).parent, "joint": world.body(b).joint,
+                    "position": where[b][0], "rpy": where[b][1]}
                    for b in world.body_names()],
         "joints": [{"name": j.name, "type": j.type, "parent": j.parent, "child": j.child,
                     "dofs": j.dofs, "lower": _finite(j.lower), "upper": _finite(j.upper),
@@ -68,17 +81,29 @@ def _limits(joint) -> str:
     return span + rate
 
 
+def _numbers(values, digits: int) -> str:
+    """``[a, b, c]`` rounded to ``digits`` decimals, without negative zeros."""
+    return "[" + ", ".join(f"{round(v, digits) + 0.0:.{digits}f}" for v in values) + "]"
+
+
+def _placement(position: list, rpy: list) -> str:
+    return f"{_numbers(position, 3)} {_numbers(map(math.degrees, rpy), 1)}"
+
+
 def render_text(world: World) -> str:
     """A readable listing: the body tree, the moving joints, groups and processors."""
     children: dict = {}
     for name in world.body_names():
         children.setdefault(world.body(name).parent, []).append(name)
-    lines = [f"world {world.path}", "", f"bodies ({len(world.body_names())}):"]
+    where = placements(world)
+    lines = [f"world {world.path}", "",
+             f"bodies ({len(world.body_names())}), world placement at the initial "
+             "configuration as position [m], rpy [deg]:"]
 
     def walk(name: str, depth: int) -> None:
         joint = world.body(name).joint
         kind = f"  ({world.joint(joint).type} {joint})" if joint else ""
-        lines.append(f"  {'  ' * depth}{name}{kind}")
+        lines.append(f"  {'  ' * depth}{name}{kind}  {_placement(*where[name])}")
         for child in children.get(name, []):
             walk(child, depth + 1)
 

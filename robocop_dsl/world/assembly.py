@@ -11,7 +11,8 @@ import numpy as np
 
 from ..diagnostics import DiagnosticError, did_you_mean
 from .description import ROOT, JointSpec, ModelEntry, WorldDescription
-from .urdf import DOFS, JointInfo, read_urdf
+from .placement import compose, rotation
+from .urdf import DOFS, JointInfo, UrdfModel, read_urdf
 
 
 @dataclass
@@ -73,12 +74,10 @@ def assemble(description: WorldDescription) -> Assembly:
         for link in urdf.links:
             if link not in result.bodies:
                 result.bodies[link] = BodyInfo(link, None, None, f"{urdf.path}")
-        robot.extend(e for e in urdf.elements
-                     if not (e.tag == "link" and e.get("name") == ROOT))
-        if urdf.root != ROOT:
-            attachments.append((entry, urdf.root, where))
-    for entry, root, where in attachments:
-        _attach(robot, entry, root, where, result, diagnostics)
+        robot.extend(urdf.elements)
+        attachments.append((entry, urdf, where))
+    for entry, urdf, where in attachments:
+        _attach(robot, entry, urdf, where, result, diagnostics)
     result.groups = _resolve_groups(description, result, diagnostics)
     result.initial = _resolve_initial(description, result, diagnostics)
     if diagnostics:
@@ -89,7 +88,7 @@ def assemble(description: WorldDescription) -> Assembly:
 
 def _first_duplicate(urdf, result: Assembly):
     for link in urdf.links:
-        if link in result.bodies and link != ROOT:
+        if link in result.bodies:
             return "body", link, result.bodies[link].where
     for joint in urdf.joints:
         if joint.name in result.joints:
@@ -97,9 +96,16 @@ def _first_duplicate(urdf, result: Assembly):
     return None
 
 
-def _attach(robot: ET.Element, entry: ModelEntry, root: str, where: str,
+def _attach(robot: ET.Element, entry: ModelEntry, urdf: UrdfModel, where: str,
             result: Assembly, diagnostics: list) -> None:
+    """Join the model's root link to its ``joint:`` parent.
+
+    The joint's origin is the ``joint:`` position followed by the URDF's own placement
+    of its root; a moving joint acts at the root link, about or along the ``axis``
+    written in the ``joint:`` frame.
+    """
     spec: JointSpec = entry.joint
+    root = urdf.root
     if spec.parent not in result.bodies:
         diagnostics.append(spec.parent_at.error(
             "unknown-parent", f"unknown parent body '{spec.parent}'",
@@ -119,9 +125,11 @@ def _attach(robot: ET.Element, entry: ModelEntry, root: str, where: str,
     joint = ET.SubElement(robot, "joint", name=name, type=spec.type)
     ET.SubElement(joint, "parent", link=spec.parent)
     ET.SubElement(joint, "child", link=root)
-    ET.SubElement(joint, "origin", xyz=_text(spec.xyz), rpy=_text(spec.rpy))
+    xyz, rpy = compose((spec.xyz, spec.rpy), urdf.origin)
+    ET.SubElement(joint, "origin", xyz=_text(xyz), rpy=_text(rpy))
     if spec.type in ("revolute", "prismatic", "continuous", "planar"):
-        ET.SubElement(joint, "axis", xyz=_text(spec.axis))
+        axis = rotation(urdf.origin[1]).T @ np.asarray(spec.axis, float)
+        ET.SubElement(joint, "axis", xyz=_text(axis))
     if spec.limits or spec.type in ("revolute", "prismatic"):
         limits = {"lower": 0.0, "upper": 0.0, "velocity": 0.0, "effort": 0.0}
         limits.update(spec.limits)

@@ -13,7 +13,8 @@ import numpy as np
 
 from ..diagnostics import SourceFile, Span
 from . import paths
-from .description import prefixed
+from .description import ROOT, prefixed
+from .placement import IDENTITY
 
 DOFS = {"fixed": 0, "revolute": 1, "continuous": 1, "prismatic": 1, "floating": 6,
         "planar": 3}
@@ -40,10 +41,15 @@ class JointInfo:
 
 @dataclass
 class UrdfModel:
-    """A URDF's elements after renaming, ready to merge into the world's URDF."""
+    """A URDF's elements after renaming, ready to merge into the world's URDF.
+
+    ``origin`` is the root link's ``(xyz, rpy)`` placement (m, rad) in the model's
+    frame: the URDF's own fixed joint from its ``world`` link, if it has one.
+    """
 
     path: Path
     root: str | None
+    origin: tuple = IDENTITY
     links: list = field(default_factory=list)
     joints: list = field(default_factory=list)
     elements: list = field(default_factory=list)
@@ -153,8 +159,34 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
             + (f": {', '.join(roots)}" if roots else ""), Span.point(1)))
         return None
     model.root = roots[0]
+    if ROOT in model.links and not _fold_world(robot, model, source, diagnostics):
+        return None
     model.elements = [e for e in robot if e.tag in ("link", "joint", "material")]
     return model
+
+
+def _fold_world(robot: ET.Element, model: UrdfModel, source: SourceFile,
+                diagnostics: list) -> bool:
+    """Drop the URDF's own ``world`` link and the fixed joint from it: the joint's
+    child becomes the root, placed by the joint's origin."""
+    joints = [j for j in robot.findall("joint") if j.find("parent").get("link") == ROOT]
+    if model.root != ROOT or len(joints) != 1 or joints[0].get("type") != "fixed":
+        diagnostics.append(source.error(
+            "urdf-error", "a URDF's 'world' link must be its root with one fixed joint "
+            "to the robot's base", Span.point(model.link_lines[ROOT]),
+            "remove the 'world' link and place the model with 'joint:' in the world file"))
+        return False
+    [joint] = joints
+    origin = joint.find("origin")
+    if origin is not None:
+        model.origin = (_floats(origin.get("xyz"), IDENTITY[0]),
+                        _floats(origin.get("rpy"), IDENTITY[1]))
+    robot.remove(joint)
+    robot.remove(next(link for link in robot.findall("link") if link.get("name") == ROOT))
+    model.links.remove(ROOT)
+    model.joints = [j for j in model.joints if j.name != joint.get("name")]
+    model.root = joint.find("child").get("link")
+    return True
 
 
 def _resolve_meshes(robot: ET.Element, source: SourceFile, lines: dict,

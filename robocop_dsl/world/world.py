@@ -171,6 +171,15 @@ class World:
         pin.forwardKinematics(self.model, data, q)
         return pin.SE3(pin.updateFramePlacement(self.model, data, self.body_frame_id(name)))
 
+    def body_placements(self, q: np.ndarray) -> dict:
+        """World pose (``pin.SE3``) of every body at configuration ``q``, by name."""
+        import pinocchio as pin
+
+        data = self.model.createData()
+        pin.framesForwardKinematics(self.model, data, q)
+        return {name: pin.SE3(data.oMf[self.body_frame_id(name)])
+                for name in self._assembly.bodies}
+
     def body_jacobian(self, name: str, q: np.ndarray) -> np.ndarray:
         """6 x nv Jacobian of body ``name`` (linear then angular, LOCAL_WORLD_ALIGNED)."""
         import pinocchio as pin
