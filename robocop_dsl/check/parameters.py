@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from ..lang import ast
 from ..lang.catalogue import (BODY, FEEDBACK, FEEDBACKS, INTEGER, INTERPOLATOR,
                               INTERPOLATORS, PER_DOF, SCALAR, TARGET, Kind, Parameter,
-                              Registry)
+                              Range, Registry)
 from ..lang.units import describe
 from .context import CheckContext, Joints
 from .targets import check_target
@@ -33,24 +33,28 @@ class Subject:
 
 
 def check_value(ctx: CheckContext, parameter: Parameter, value: ast.Value, subject: Subject,
-                what: str) -> None:
-    """Check one value given to ``parameter`` (of a declaration, a call or an action)."""
+                what: str) -> tuple[float, ...] | None:
+    """Check one value given to ``parameter`` (of a declaration, a call or an action);
+    return its numbers in SI (one per dof for ``PER_DOF``) when it has usable ones."""
     if ctx.opaque(value):
-        return
+        return None
     dimensions = space_dimensions(parameter.dimension, subject.space, subject.joints)
+    numbers = None
     if parameter.kind == SCALAR:
         if not isinstance(value, ast.Quantity):
             ctx.error("wrong-value", f"{what} expects {describe(dimensions)}", value.span)
-            return
+            return None
         number = check_quantity(ctx, value, dimensions, what)
-        _check_sign(ctx, parameter, (number,) if number is not None else (), value, what)
+        numbers = None if number is None else (number,)
     elif parameter.kind == PER_DOF:
         numbers = check_per_dof(ctx, value, dimensions, what, subject.dofs)
-        _check_sign(ctx, parameter, numbers or (), value, what)
     elif parameter.kind == INTEGER:
         if (not isinstance(value, ast.Quantity) or value.unit is not None
-                or not value.value.is_integer() or value.value < 0):
-            ctx.error("wrong-value", f"{what} expects a whole number, 0 or more", value.span)
+                or not value.value.is_integer()):
+            bound = f", {parameter.valid.text}" if parameter.valid else ""
+            ctx.error("wrong-value", f"{what} expects a whole number{bound}", value.span)
+            return None
+        numbers = (value.value,)
     elif parameter.kind == BODY:
         check_body_value(ctx, value, what)
     elif parameter.kind == INTERPOLATOR:
@@ -59,11 +63,26 @@ def check_value(ctx: CheckContext, parameter: Parameter, value: ast.Value, subje
         check_call(ctx, value, FEEDBACKS, "unknown-feedback", subject, what)
     elif parameter.kind == TARGET:
         check_target(ctx, value, subject.kind, subject.joints, what)
+    if numbers is not None and parameter.valid is not None:
+        check_range(ctx, parameter.valid, numbers, value, subject.joints, what)
+    return numbers
 
 
-def _check_sign(ctx, parameter: Parameter, numbers, value: ast.Value, what: str) -> None:
-    if parameter.non_negative and any(n < 0 for n in numbers):
-        ctx.error("wrong-value", f"{what} must not be negative", value.span)
+def check_range(ctx: CheckContext, valid: Range, numbers: tuple[float, ...],
+                value: ast.Value, joints: Joints | None, what: str) -> None:
+    """Report numbers [SI] outside ``valid``: a scalar once, each bad element of a vector."""
+    if not isinstance(value, ast.Vector):
+        fault = valid.fault(numbers[0])
+        if fault:
+            ctx.error("wrong-value", f"{what} {fault}", value.span, f"valid values: {valid.text}")
+        return
+    unit = f" {value.unit.text}" if value.unit else ""
+    for index, (number, written) in enumerate(zip(numbers, value.values)):
+        fault = valid.fault(number)
+        if fault:
+            where = f"joint {index + 1} of '{joints.name}'; " if joints else ""
+            ctx.error("wrong-value", f"{what}: value {index + 1} ({written:g}{unit}) {fault}",
+                      value.span, f"{where}valid values: {valid.text}")
 
 
 def check_body_value(ctx: CheckContext, value: ast.Value, what: str) -> None:
@@ -89,6 +108,7 @@ def check_parameters(ctx: CheckContext, given: list[tuple[ast.Name | None, ast.V
     Positional arguments (name ``None``) take the parameters in their declared order.
     """
     seen: dict[str, ast.Name | None] = {}
+    numbers: dict[str, tuple[ast.Value, tuple[float, ...] | None]] = {}
     for index, (name, value) in enumerate(given):
         if name is None:
             if index >= len(kind.parameters):
@@ -108,12 +128,42 @@ def check_parameters(ctx: CheckContext, given: list[tuple[ast.Name | None, ast.V
                       (name or value).span)
             continue
         seen[parameter.name] = name
-        check_value(ctx, parameter, value, subject, f"'{parameter.name}'")
+        checked = check_value(ctx, parameter, value, subject, f"'{parameter.name}'")
+        numbers[parameter.name] = (value, checked)
+    for low, high in kind.ordered:
+        check_order(ctx, low, high, numbers, subject.joints)
     missing = [p.name for p in kind.parameters if p.required and p.name not in seen]
     if missing:
         ctx.error("missing-parameter",
                   f"{owner} needs {', '.join(repr(m) for m in missing)}", span,
                   _parameters_hint(kind))
+
+
+def check_order(ctx: CheckContext, low: str, high: str,
+                numbers: dict[str, tuple[ast.Value, tuple[float, ...] | None]],
+                joints: Joints | None) -> None:
+    """Report the first joint where ``low`` is above ``high`` [SI]; an absent one is
+    the URDF limit, neither given is left to the world's checks, an unusable one to its
+    own error."""
+    given = [name for name in (low, high) if name in numbers]
+    if joints is None or not given or any(numbers[n][1] is None for n in given):
+        return
+    lows = numbers[low][1] if low in numbers else joints.lower
+    highs = numbers[high][1] if high in numbers else joints.upper
+    bad = [i for i, (a, b) in enumerate(zip(lows, highs)) if a > b]
+    if not bad:
+        return
+    index = bad[0]
+    unit = "m" if joints.joint_types[index] == "prismatic" else "rad"
+    more = f" (and {len(bad) - 1} more joints)" if len(bad) > 1 else ""
+    span = numbers[given[0]][0].span
+    defaulted = "" if len(given) == 2 else (
+        f", the URDF's {'upper' if low in numbers else 'lower'} limit that '"
+        f"{high if low in numbers else low}' defaults to")
+    ctx.error("inverted-limits",
+              f"'{low}' is above '{high}' at joint {index + 1} of '{joints.name}': "
+              f"{lows[index]:.4g} > {highs[index]:.4g} {unit}{defaulted}{more}", span,
+              f"every value of '{low}' must be at most the matching value of '{high}'")
 
 
 def _parameters_hint(kind: Kind) -> str:

@@ -45,11 +45,35 @@ GAZE_SPACE = "gaze"
 
 
 @dataclass(frozen=True)
+class Range:
+    """The valid values of a number, in SI: ``low`` or more (above ``low`` if ``strict``)."""
+
+    low: float = 0.0
+    strict: bool = False
+
+    @property
+    def text(self) -> str:
+        return f"greater than {self.low:g}" if self.strict else f"{self.low:g} or more"
+
+    def fault(self, value: float) -> str | None:
+        """What is wrong with ``value`` [SI], or ``None`` when it is in the range."""
+        if value > self.low or (value == self.low and not self.strict):
+            return None
+        if self.low != 0:
+            return f"must be {self.text}"
+        return "must not be zero" if value == 0 else "must not be negative"
+
+
+POSITIVE = Range(strict=True)
+NON_NEGATIVE = Range()
+
+
+@dataclass(frozen=True)
 class Parameter:
     """One parameter: its name, how it is written, its dimension, need and default.
 
     ``settable`` parameters may also be changed by a state's actions (``X.gain = 2``);
-    ``non_negative`` ones reject values below zero.
+    ``valid`` is the range of each of its numbers (``None``: any).
     """
 
     name: str
@@ -58,7 +82,7 @@ class Parameter:
     required: bool = False
     default: Any = None
     settable: bool = False
-    non_negative: bool = False
+    valid: Range | None = None
     doc: str = ""
 
 
@@ -68,6 +92,9 @@ class Kind:
 
     ``subject`` is what its single argument names (a joint group or a body; ``None``
     for interpolators and feedback laws) and ``space`` what its target lives in.
+    ``ordered`` lists pairs ``(low, high)`` of per-dof position parameters where each
+    value of ``low`` must not exceed that of ``high``; an absent one stands for the
+    joints' URDF limit (lower for ``low``, upper for ``high``).
     """
 
     name: str
@@ -75,6 +102,7 @@ class Kind:
     subject: str | None = None
     space: str | None = None
     doc: str = ""
+    ordered: tuple[tuple[str, str], ...] = ()
 
     def parameter(self, name: str) -> Parameter | None:
         return next((p for p in self.parameters if p.name == name), None)
@@ -119,10 +147,11 @@ def _task_parameters(body: bool) -> tuple[Parameter, ...]:
                   doc="how the reference moves to the target"),
         Parameter("feedback", FEEDBACK, default="proportional",
                   doc="how the error becomes a velocity"),
-        Parameter("priority", INTEGER, default=0, doc="0 is highest (strict hierarchy)"),
-        Parameter("weight", SCALAR, default=1.0, settable=True, non_negative=True,
+        Parameter("priority", INTEGER, default=0, valid=NON_NEGATIVE,
+                  doc="0 is highest (strict hierarchy)"),
+        Parameter("weight", SCALAR, default=1.0, settable=True, valid=NON_NEGATIVE,
                   doc="relative weight (weighted hierarchy)"),
-        Parameter("gain", SCALAR, settable=True, non_negative=True,
+        Parameter("gain", SCALAR, settable=True, valid=NON_NEGATIVE,
                   doc="proportional gain [1/s] replacing the feedback's own"),
     )
     if body:
@@ -150,35 +179,36 @@ CONSTRAINTS.register(Kind("joint_kinematic", (
               doc="default: the URDF's lower limits"),
     Parameter("max_position", PER_DOF, POSITION, settable=True,
               doc="default: the URDF's upper limits"),
-    Parameter("max_velocity", PER_DOF, VELOCITY, settable=True, non_negative=True,
+    Parameter("max_velocity", PER_DOF, VELOCITY, settable=True, valid=POSITIVE,
               doc="default: the URDF's velocity limits"),
-    Parameter("max_acceleration", PER_DOF, ACCELERATION, settable=True, non_negative=True,
+    Parameter("max_acceleration", PER_DOF, ACCELERATION, settable=True, valid=POSITIVE,
               doc="default: not limited"),
-), JOINT_GROUP, JOINT_SPACE, "joint position, velocity and acceleration limits"))
+), JOINT_GROUP, JOINT_SPACE, "joint position, velocity and acceleration limits",
+    ordered=(("min_position", "max_position"),)))
 
 CONSTRAINTS.register(Kind("body_velocity", (
     Parameter("reference", BODY, default="world", doc="frame the velocity is measured in"),
-    Parameter("max_linear", SCALAR, LINEAR_VELOCITY, settable=True, non_negative=True,
+    Parameter("max_linear", SCALAR, LINEAR_VELOCITY, settable=True, valid=NON_NEGATIVE,
               doc="bound on the linear speed; default: not limited"),
-    Parameter("max_angular", SCALAR, ANGULAR_VELOCITY, settable=True, non_negative=True,
+    Parameter("max_angular", SCALAR, ANGULAR_VELOCITY, settable=True, valid=NON_NEGATIVE,
               doc="bound on the angular speed; default: not limited"),
 ), BODY_SUBJECT, TWIST_SPACE, "bounds on a body's velocity"))
 
 INTERPOLATORS.register(Kind("otg", (
-    Parameter("max_velocity", PER_DOF, VELOCITY, required=True, non_negative=True),
-    Parameter("max_acceleration", PER_DOF, ACCELERATION, required=True, non_negative=True),
+    Parameter("max_velocity", PER_DOF, VELOCITY, required=True, valid=POSITIVE),
+    Parameter("max_acceleration", PER_DOF, ACCELERATION, required=True, valid=POSITIVE),
 ), doc="online trajectory generation (ruckig), time-optimal under the limits"))
 for _name in ("linear", "cubic", "quintic"):
     INTERPOLATORS.register(Kind(_name, (Parameter("duration", SCALAR, TIME, required=True,
-                                                          non_negative=True),),
+                                                          valid=POSITIVE),),
                                 doc=f"{_name} interpolation over a fixed duration"))
 INTERPOLATORS.register(Kind("none", (), doc="the reference jumps to the target"))
 
 FEEDBACKS.register(Kind("proportional", (
-    Parameter("gain", SCALAR, default=1.0, non_negative=True, doc="[1/s]"),),
+    Parameter("gain", SCALAR, default=1.0, valid=NON_NEGATIVE, doc="[1/s]"),),
     doc="velocity = gain * error"))
 FEEDBACKS.register(Kind("pid", (
-    Parameter("kp", SCALAR, default=1.0, non_negative=True),
-    Parameter("ki", SCALAR, default=0.0, non_negative=True),
-    Parameter("kd", SCALAR, default=0.0, non_negative=True)),
+    Parameter("kp", SCALAR, default=1.0, valid=NON_NEGATIVE),
+    Parameter("ki", SCALAR, default=0.0, valid=NON_NEGATIVE),
+    Parameter("kd", SCALAR, default=0.0, valid=NON_NEGATIVE)),
     doc="proportional, integral, derivative"))
