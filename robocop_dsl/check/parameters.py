@@ -127,6 +127,11 @@ def check_parameters(ctx: CheckContext, given: list[tuple[ast.Name | None, ast.V
             ctx.error("duplicate-name", f"parameter '{parameter.name}' is given twice",
                       (name or value).span)
             continue
+        if not _applies(parameter, subject):
+            ctx.error("unknown-parameter", f"{owner} takes no '{parameter.name}' for a "
+                      f"{subject.kind.name} task", (name or value).span,
+                      f"'{parameter.name}' applies to {_spaces_text(parameter)} tasks")
+            continue
         seen[parameter.name] = name
         checked = check_value(ctx, parameter, value, subject, f"'{parameter.name}'")
         numbers[parameter.name] = (value, checked)
@@ -164,6 +169,17 @@ def check_order(ctx: CheckContext, low: str, high: str,
               f"'{low}' is above '{high}' at joint {index + 1} of '{joints.name}': "
               f"{lows[index]:.4g} > {highs[index]:.4g} {unit}{defaulted}{more}", span,
               f"every value of '{low}' must be at most the matching value of '{high}'")
+
+
+def _applies(parameter: Parameter, subject: Subject) -> bool:
+    """Whether ``parameter`` applies to the space of ``subject`` (unknown: yes)."""
+    return parameter.spaces is None or subject.space is None \
+        or subject.space in parameter.spaces
+
+
+def _spaces_text(parameter: Parameter) -> str:
+    spaces = [s.replace("_", " ") for s in parameter.spaces]
+    return ", ".join(spaces[:-1]) + (" or " if len(spaces) > 1 else "") + spaces[-1]
 
 
 def _parameters_hint(kind: Kind) -> str:

@@ -7,22 +7,25 @@ Each ``check_*`` function reports what is wrong with a value and returns it in S
 from __future__ import annotations
 
 from ..lang import ast
-from ..lang.catalogue import (ACCELERATION, GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE,
-                              ORIENTATION_SPACE, POSITION, TWIST_SPACE, VELOCITY)
-from ..lang.units import (ANGLE, ANGULAR_ACCELERATION, ANGULAR_VELOCITY, DIMENSIONLESS,
-                          LENGTH, LINEAR_ACCELERATION, LINEAR_VELOCITY, SI_SYMBOL, UNITS,
-                          describe, lookup)
+from ..lang.catalogue import (ACCELERATION, GAZE_SPACE, JERK, JOINT_SPACE,
+                              JOINT_VELOCITY_SPACE, ORIENTATION_SPACE, POSITION, TWIST_SPACE,
+                              VELOCITY)
+from ..lang.units import (ANGLE, ANGULAR_ACCELERATION, ANGULAR_JERK, ANGULAR_VELOCITY,
+                          DIMENSIONLESS, LENGTH, LINEAR_ACCELERATION, LINEAR_JERK,
+                          LINEAR_VELOCITY, SI_SYMBOL, UNITS, describe, lookup)
 from .context import CheckContext, Joints, finite
 
 _LENGTHS = {3: "write three values: [x, y, z] or [roll, pitch, yaw]",
             6: "write six values: [vx, vy, vz, wx, wy, wz]"}
-_RATES = {ANGLE: (ANGULAR_VELOCITY, ANGULAR_ACCELERATION),
-          LENGTH: (LINEAR_VELOCITY, LINEAR_ACCELERATION)}
+_RATES = {ANGLE: (ANGULAR_VELOCITY, ANGULAR_ACCELERATION, ANGULAR_JERK),
+          LENGTH: (LINEAR_VELOCITY, LINEAR_ACCELERATION, LINEAR_JERK)}
+_RATE_INDEX = {VELOCITY: 0, ACCELERATION: 1, JERK: 2}
 
 
 def space_dimensions(symbol: str, space: str | None, joints: Joints | None) -> tuple[str, ...]:
-    """Turn ``POSITION``/``VELOCITY``/``ACCELERATION`` into dimensions for a space."""
-    if symbol not in (POSITION, VELOCITY, ACCELERATION):
+    """Turn ``POSITION`` or a rate (``VELOCITY``, ``ACCELERATION``, ``JERK``) into
+    dimensions for a space."""
+    if symbol != POSITION and symbol not in _RATE_INDEX:
         return (symbol,)
     if space in (JOINT_SPACE, JOINT_VELOCITY_SPACE):
         positions = joints.position_dimensions if joints else (ANGLE, LENGTH)
@@ -34,8 +37,7 @@ def space_dimensions(symbol: str, space: str | None, joints: Joints | None) -> t
         positions = (LENGTH,)
     if symbol == POSITION:
         return positions
-    index = 0 if symbol == VELOCITY else 1
-    return tuple(_RATES[p][index] for p in positions)
+    return tuple(_RATES[p][_RATE_INDEX[symbol]] for p in positions)
 
 
 def unit_of(ctx: CheckContext, unit: ast.Name | None):

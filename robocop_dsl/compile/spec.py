@@ -21,8 +21,10 @@ from ..diagnostics import SourceFile, Span
 @dataclass(frozen=True)
 class InterpolatorSpec:
     """``kind`` is ``otg``, ``linear``, ``cubic``, ``quintic`` or ``none`` (or a registered
-    one); ``parameters`` in SI: otg ``max_velocity``/``max_acceleration`` (tuples, one
-    value per dof, one value for body tasks), the others ``duration`` [s]."""
+    one); ``parameters`` in SI: otg ``max_velocity``, ``max_acceleration``, ``max_jerk``
+    and ``target_velocity`` (tuples, one value per dof, one value for body tasks) and
+    ``max_angular_velocity``, ``max_angular_acceleration``, ``max_angular_jerk``
+    (floats [rad/s, rad/s^2, rad/s^3]); the others ``duration`` [s]."""
 
     kind: str
     parameters: dict[str, float | tuple[float, ...]] = field(default_factory=dict)

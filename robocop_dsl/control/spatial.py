@@ -59,6 +59,26 @@ class BodyTarget:
         return f"BodyTarget({self.body!r}, offset={offset})"
 
 
+def same_target(first, second) -> bool:
+    """Whether two task targets (vectors, rotations, ``pin.SE3``, :class:`BodyTarget`,
+    ``CURRENT``) are equal; ``CURRENT`` never equals anything, being the value at the
+    time it is set."""
+    if isinstance(first, BodyTarget) and isinstance(second, BodyTarget):
+        return first.body == second.body and _same_value(first.offset, second.offset)
+    if isinstance(first, (BodyTarget, Current)) or isinstance(second, (BodyTarget, Current)):
+        return False
+    return _same_value(first, second)
+
+
+def _same_value(first, second) -> bool:
+    if first is None or second is None:
+        return first is second
+    if isinstance(first, pin.SE3) != isinstance(second, pin.SE3):
+        return False
+    first, second = (getattr(v, "homogeneous", v) for v in (first, second))
+    return np.array_equal(np.asarray(first), np.asarray(second))
+
+
 def skew(vector: np.ndarray) -> np.ndarray:
     """The 3x3 matrix of ``vector x .``."""
     x, y, z = vector

@@ -5,7 +5,7 @@ type is one :func:`register` call away. Each type lists its parameters with the 
 value they take, their dimension, whether they are required and their default.
 
 Dimensions are those of :mod:`robocop_dsl.lang.units`, or one of ``POSITION``,
-``VELOCITY``, ``ACCELERATION``: the position, velocity or acceleration of what the task
+``VELOCITY``, ``ACCELERATION``, ``JERK``: the position or one of its rates of what the task
 or constraint drives (radians or metres for a joint group depending on its joints,
 metres for a body's position, radians for its orientation).
 """
@@ -15,11 +15,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
 
-from .units import ANGULAR_VELOCITY, DIMENSIONLESS, LINEAR_VELOCITY, TIME
+from .units import (ANGULAR_ACCELERATION, ANGULAR_JERK, ANGULAR_VELOCITY, DIMENSIONLESS,
+                    LINEAR_VELOCITY, TIME)
 
 POSITION = "position"
 VELOCITY = "velocity"
 ACCELERATION = "acceleration"
+JERK = "jerk"
 
 # What a parameter's value is written as.
 SCALAR = "scalar"            # one number with a unit
@@ -73,7 +75,8 @@ class Parameter:
     """One parameter: its name, how it is written, its dimension, need and default.
 
     ``settable`` parameters may also be changed by a state's actions (``X.gain = 2``);
-    ``valid`` is the range of each of its numbers (``None``: any).
+    ``valid`` is the range of each of its numbers (``None``: any); ``spaces`` the task
+    spaces an interpolator's parameter applies to (``None``: all).
     """
 
     name: str
@@ -84,6 +87,7 @@ class Parameter:
     settable: bool = False
     valid: Range | None = None
     doc: str = ""
+    spaces: tuple[str, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -194,10 +198,25 @@ CONSTRAINTS.register(Kind("body_velocity", (
               doc="bound on the angular speed; default: not limited"),
 ), BODY_SUBJECT, TWIST_SPACE, "bounds on a body's velocity"))
 
+ROTATION_SPACES = (ORIENTATION_SPACE, POSE_SPACE, TWIST_SPACE, GAZE_SPACE)
+
 INTERPOLATORS.register(Kind("otg", (
-    Parameter("max_velocity", PER_DOF, VELOCITY, required=True, valid=POSITIVE),
-    Parameter("max_acceleration", PER_DOF, ACCELERATION, required=True, valid=POSITIVE),
-), doc="online trajectory generation (ruckig), time-optimal under the limits"))
+    Parameter("max_velocity", PER_DOF, VELOCITY, required=True, valid=POSITIVE,
+              doc="for a body pose or twist, of the position only"),
+    Parameter("max_acceleration", PER_DOF, ACCELERATION, required=True, valid=POSITIVE,
+              doc="for a body pose or twist, of the position only"),
+    Parameter("max_jerk", PER_DOF, JERK, valid=POSITIVE,
+              doc="for a body pose or twist, of the position only; default: not limited"),
+    Parameter("target_velocity", PER_DOF, VELOCITY, spaces=(JOINT_SPACE,),
+              doc="velocity on reaching the target; default: at rest"),
+    Parameter("max_angular_velocity", SCALAR, ANGULAR_VELOCITY, valid=POSITIVE,
+              spaces=ROTATION_SPACES, doc="of the rotation; default 1 rad/s"),
+    Parameter("max_angular_acceleration", SCALAR, ANGULAR_ACCELERATION, valid=POSITIVE,
+              spaces=ROTATION_SPACES, doc="of the rotation; default 2 rad/s^2"),
+    Parameter("max_angular_jerk", SCALAR, ANGULAR_JERK, valid=POSITIVE,
+              spaces=ROTATION_SPACES, doc="of the rotation; default: not limited"),
+), doc="online trajectory generation (ruckig), time-optimal under the limits; a linear "
+       "limit never bounds a rotation"))
 for _name in ("linear", "cubic", "quintic"):
     INTERPOLATORS.register(Kind(_name, (Parameter("duration", SCALAR, TIME, required=True,
                                                           valid=POSITIVE),),

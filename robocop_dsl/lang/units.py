@@ -15,6 +15,8 @@ LINEAR_VELOCITY = "linear velocity"
 ANGULAR_VELOCITY = "angular velocity"
 LINEAR_ACCELERATION = "linear acceleration"
 ANGULAR_ACCELERATION = "angular acceleration"
+LINEAR_JERK = "linear jerk"
+ANGULAR_JERK = "angular jerk"
 DIMENSIONLESS = "dimensionless"
 
 
@@ -37,11 +39,14 @@ UNITS: dict[str, Unit] = {u.symbol: u for u in (
     Unit("rad/s", ANGULAR_VELOCITY, 1.0), Unit("deg/s", ANGULAR_VELOCITY, _DEG),
     Unit("m/s^2", LINEAR_ACCELERATION, 1.0),
     Unit("rad/s^2", ANGULAR_ACCELERATION, 1.0), Unit("deg/s^2", ANGULAR_ACCELERATION, _DEG),
+    Unit("m/s^3", LINEAR_JERK, 1.0), Unit("rad/s^3", ANGULAR_JERK, 1.0),
+    Unit("deg/s^3", ANGULAR_JERK, _DEG),
 )}
 
 SI_SYMBOL = {LENGTH: "m", ANGLE: "rad", TIME: "s", LINEAR_VELOCITY: "m/s",
              ANGULAR_VELOCITY: "rad/s", LINEAR_ACCELERATION: "m/s^2",
-             ANGULAR_ACCELERATION: "rad/s^2", DIMENSIONLESS: ""}
+             ANGULAR_ACCELERATION: "rad/s^2", LINEAR_JERK: "m/s^3", ANGULAR_JERK: "rad/s^3",
+             DIMENSIONLESS: ""}
 
 
 def lookup(symbol: str) -> Unit | None:

@@ -11,9 +11,10 @@ class Interpolator(ABC):
     """Generates, every control period, a reference moving towards the target.
 
     A task owns one interpolator and drives it: :meth:`setup` when attached,
-    :meth:`restart` from the current value when the task is enabled, reset or given a
-    new target, then each cycle sets :attr:`target` and calls :meth:`step`. Values are
-    vectors of the task's coordinates (joint positions, positions, rotation vectors).
+    :meth:`restart` from the current value when the task is enabled or reset,
+    :meth:`retarget` when given a new target while running, then each cycle sets
+    :attr:`target` and calls :meth:`step`. Values are vectors of the task's
+    coordinates (joint positions, positions, rotation vectors).
 
     Attributes:
         dimension: Number of coordinates.
@@ -52,6 +53,11 @@ class Interpolator(ABC):
         self.position = np.array(position, dtype=float)
         self.velocity = np.array(velocity, dtype=float)
         self.start()
+
+    def retarget(self) -> None:
+        """The target changed mid-trajectory: by default a new trajectory starts from
+        the current reference and its velocity."""
+        self.restart(self.position, self.velocity)
 
     @abstractmethod
     def start(self) -> None:

@@ -3,18 +3,34 @@
 from __future__ import annotations
 
 import numpy as np
-from ruckig import InputParameter, OutputParameter, Result, Ruckig
+from ruckig import InputParameter, OutputParameter, Result, Ruckig, RuckigError
 
 from ..parameters import vector_parameter
 from .base import Interpolator
+
+ANGULAR_DEFAULTS = {"velocity": 1.0, "acceleration": 2.0, "jerk": np.inf}
+"""Rotation limits of a task mixing positions and rotations when no ``max_angular_*``
+is given: 1 rad/s, 2 rad/s^2, jerk not limited."""
+
+_LIMITS = ("velocity", "acceleration", "jerk")
 
 
 class OTGInterpolator(Interpolator):
     """Jerk- (or acceleration-) limited time-optimal trajectory, replanned online.
 
-    Limits are a scalar (every coordinate) or one value per coordinate. For pose and
-    orientation tasks the ``max_angular_*`` limits, when given, apply to the rotation
-    coordinates [rad/s, rad/s^2, rad/s^3] and the others to the positions.
+    Limits are a scalar (every coordinate) or one value per coordinate. On a task
+    mixing positions and rotations (``body_pose``, ``body_velocity``) ``max_velocity``,
+    ``max_acceleration`` and ``max_jerk`` bound the positions only and the
+    ``max_angular_*`` limits the rotation coordinates; those not given are
+    :data:`ANGULAR_DEFAULTS` (1 rad/s, 2 rad/s^2, no jerk limit), never the linear
+    numbers. On a task of rotations only (``body_orientation``, ``gaze``) the angular
+    limits, when given, replace the plain ones.
+
+    A new target (:meth:`retarget`) is followed from the current reference, velocity
+    and acceleration. No ruckig failure escapes: a rejected step is retried from the
+    state clamped to the velocity limits at zero acceleration; if that fails too, the
+    reference holds still (zero velocity) and :attr:`failed` is true until a step
+    succeeds.
 
     Args:
         max_velocity: Maximum velocity [m/s or rad/s].
@@ -39,35 +55,39 @@ class OTGInterpolator(Interpolator):
         self.target_velocity = target_velocity
         for name, value in self.limits.items():
             if value is not None:
-                vector_parameter(self.kind, name, value, np.size(value), minimum=0.0,
-                                 strict=True, allow_inf=name.endswith("jerk"))
+                self._vector(name, value, np.size(value))
         self.result = Result.Working
         self._otg = self._input = self._output = None
+        self._max_velocity = np.zeros(0)
+
+    def _vector(self, name: str, value, size: int) -> np.ndarray:
+        return vector_parameter(self.kind, name, value, size, minimum=0.0, strict=True,
+                                allow_inf=name.endswith("jerk"))
 
     def configure_limits(self) -> None:
         size = self.dimension
         self._otg = Ruckig(size, self.time_step)
         self._input = InputParameter(size)
         self._output = OutputParameter(size)
-        for name in ("velocity", "acceleration", "jerk"):
-            values = self._limit(name, size)
-            setattr(self._input, f"max_{name}", values.tolist())
+        for name in _LIMITS:
+            setattr(self._input, f"max_{name}", self.limit(name).tolist())
+        self._max_velocity = self.limit("velocity")
         velocity = np.zeros(size) if self.target_velocity is None else vector_parameter(
             self.kind, "target_velocity", self.target_velocity, size)
         self._input.target_velocity = velocity.tolist()
 
-    def _limit(self, name: str, size: int) -> np.ndarray:
-        default = np.inf if name == "jerk" else None
+    def limit(self, name: str) -> np.ndarray:
+        """The limit ``name`` (``velocity``, ``acceleration``, ``jerk``) of each
+        coordinate, as given to ruckig [SI]."""
         linear = self.limits[f"max_{name}"]
-        linear = default if linear is None else linear
-        values = vector_parameter(self.kind, f"max_{name}", linear, size, minimum=0.0,
-                                  strict=True, allow_inf=name == "jerk")
+        values = self._vector(f"max_{name}", np.inf if linear is None else linear,
+                              self.dimension)
+        mask = self.angular
         angular = self.limits[f"max_angular_{name}"]
-        if angular is not None and self.angular.any():
-            count = int(self.angular.sum())
-            values[self.angular] = vector_parameter(self.kind, f"max_angular_{name}", angular,
-                                                    count, minimum=0.0, strict=True,
-                                                    allow_inf=name == "jerk")
+        if not mask.any() or (angular is None and mask.all()):
+            return values
+        angular = ANGULAR_DEFAULTS[name] if angular is None else angular
+        values[mask] = self._vector(f"max_angular_{name}", angular, int(mask.sum()))
         return values
 
     def start(self) -> None:
@@ -76,16 +96,44 @@ class OTGInterpolator(Interpolator):
         self._input.current_acceleration = [0.0] * self.dimension
         self.result = Result.Working
 
+    def retarget(self) -> None:
+        """Keep the current reference, velocity and acceleration; the next step plans
+        towards the new target from them."""
+        self.result = Result.Working
+
     def step(self) -> tuple[np.ndarray, np.ndarray]:
         self._input.target_position = self.target.tolist()
-        self.result = self._otg.update(self._input, self._output)
-        if self.result in (Result.Working, Result.Finished):
-            self._output.pass_to_input(self._input)
-            self.position = np.array(self._output.new_position)
-            self.velocity = np.array(self._output.new_velocity)
-        else:
-            self.velocity = np.zeros(self.dimension)
+        if not self._update():
+            self._clamp()
+            if not self._update():
+                self._hold()
+                return self.position, self.velocity
+        self._output.pass_to_input(self._input)
+        self.position = np.array(self._output.new_position)
+        self.velocity = np.array(self._output.new_velocity)
         return self.position, self.velocity
+
+    def _update(self) -> bool:
+        """One ruckig update; ``False`` when ruckig rejects the input."""
+        try:
+            self.result = self._otg.update(self._input, self._output)
+        except (RuckigError, ValueError):
+            self.result = Result.Error
+        return not self.failed
+
+    def _clamp(self) -> None:
+        """The current velocity within its limits [SI], at zero acceleration."""
+        velocity = np.clip(self._input.current_velocity, -self._max_velocity,
+                           self._max_velocity)
+        self._input.current_velocity = velocity.tolist()
+        self._input.current_acceleration = [0.0] * self.dimension
+
+    def _hold(self) -> None:
+        """The reference stops where it is."""
+        self.velocity = np.zeros(self.dimension)
+        self._input.current_position = self.position.tolist()
+        self._input.current_velocity = self.velocity.tolist()
+        self._input.current_acceleration = [0.0] * self.dimension
 
     @property
     def finished(self) -> bool:
@@ -93,7 +141,7 @@ class OTGInterpolator(Interpolator):
 
     @property
     def failed(self) -> bool:
-        """Whether ruckig rejected the last input (the reference then holds still)."""
+        """Whether ruckig rejected the last step (the reference then holds still)."""
         return self.result not in (Result.Working, Result.Finished)
 
     def parameters(self) -> dict:

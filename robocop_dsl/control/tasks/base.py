@@ -19,7 +19,7 @@ from ..exceptions import InvalidParameter
 from ..feedback import FeedbackLoop, ProportionalFeedback, make_feedback_loop
 from ..interpolators import Interpolator, make_interpolator
 from ..parameters import integer_parameter, vector_parameter
-from ..spatial import CURRENT, BodyTarget, Current, VectorChart
+from ..spatial import CURRENT, BodyTarget, Current, VectorChart, same_target
 from ..state import ControlState
 
 
@@ -155,7 +155,13 @@ class Task(ABC):
 
     @property
     def target(self):
-        """The target: a value, :class:`BodyTarget` or ``CURRENT``; setting restarts."""
+        """The target: a value, :class:`BodyTarget` or ``CURRENT``.
+
+        Setting it while the task runs (enabled and started) lets the interpolator
+        follow the new target from its current reference and velocity (see
+        :meth:`Interpolator.retarget`); setting the same target again changes nothing.
+        Otherwise, or for ``CURRENT``, the interpolator restarts from the current state.
+        """
         return self._target
 
     @target.setter
@@ -164,11 +170,17 @@ class Task(ABC):
             value = CURRENT if self.order == 0 else np.zeros(self.dimension)
         if not isinstance(value, (Current, BodyTarget)):
             value = self.convert_target(value)
+        running = self._enabled and not self._restart and not isinstance(value, Current)
+        if running and same_target(self._target, value):
+            return
         self._target = value
         self._constant_goal = not isinstance(value, (Current, BodyTarget))
         self._finite = self._check_finite(value)
-        self._restart = True
         self._sample = None
+        if running:
+            self._interpolator.retarget()
+        else:
+            self._restart = True
 
     @staticmethod
     def _check_finite(target) -> bool:
