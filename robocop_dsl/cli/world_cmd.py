@@ -64,8 +64,8 @@ def describe(world: World) -> dict:
         "joint_groups": [{"name": g, "dofs": world.joint_group(g).dofs,
                           "joints": list(world.joint_group(g).joints)}
                          for g in world.group_names()],
-        "processors": [{"name": p.name, "type": p.type, "options": p.options}
-                       for p in world.processors.values()],
+        "processors": [{"name": p.name, "type": p.type, "options": p.options,
+                        "driver": p.driver} for p in world.processors.values()],
     }
 
 
@@ -119,5 +119,6 @@ def render_text(world: World) -> str:
     lines += ["", "processors:"]
     for processor in world.processors.values():
         options = ", ".join(f"{k}: {v}" for k, v in processor.options.items())
-        lines.append(f"  {processor.name}: {processor.type} {{{options}}}")
+        driver = f" (driver: {processor.driver})" if processor.driver else ""
+        lines.append(f"  {processor.name}: {processor.type} {{{options}}}{driver}")
     return "\n".join(lines)

@@ -18,27 +18,27 @@ Options (durations in seconds or as ``5ms``; a rate as ``1kHz`` or a number of h
 
 from __future__ import annotations
 
-from .base import DEFAULT_COMMAND_TIMEOUT, DEFAULT_CONNECT_TIMEOUT, DEFAULT_STATE_TIMEOUT
+from ..world.processors import DRIVER_TYPES, PROCESSOR_TYPES, option_default
 from .errors import DriverConfigError
 from .loopback import LoopbackDriver
-from .simulated import DEFAULT_PERIOD, ThreadedSimulatedDriver
+from .simulated import ThreadedSimulatedDriver
 from .timing import parse_duration, period_from_options
 
-_COMMON = {"joint_group", "state_timeout", "connect_timeout"}
-DRIVER_OPTIONS = {
-    "simulated": _COMMON | {"rate", "period", "command_timeout"},
-    "loopback": _COMMON | {"port", "launch", "rate", "period", "command_timeout"},
-}
-"""The options each driver type accepts."""
+DRIVER_OPTIONS = {kind: set(PROCESSOR_TYPES[kind].options) for kind in DRIVER_TYPES}
+"""The options each driver type accepts (declared in :mod:`robocop_dsl.world.processors`)."""
 
 
-def driver_processor(world, name: str | None = None):
-    """The world's driver processor: ``name``, or the only one of a driver type.
+def driver_processor(world, name: str | None = None, controller: str | None = None):
+    """The world's driver processor: ``name``; else the driver of the qp_controller
+    ``controller`` (the one its ``driver:`` option names, or the only one on its joint
+    group); else the world's only driver processor.
 
     Raises:
-        DriverConfigError: No such processor, or several and no ``name``.
+        DriverConfigError: No such processor, or several and nothing to choose one.
     """
     drivers = {p.name: p for p in world.processors.values() if p.type in DRIVER_OPTIONS}
+    if name is None and controller in world.processors:
+        name = getattr(world.processors[controller], "driver", None)
     if name is not None:
         if name not in drivers:
             raise DriverConfigError(f"{world.path.name} has no driver processor '{name}' "
@@ -46,17 +46,20 @@ def driver_processor(world, name: str | None = None):
         return drivers[name]
     if len(drivers) != 1:
         raise DriverConfigError(f"{world.path.name} has {len(drivers)} driver processors "
-                                f"({', '.join(drivers) or 'none'}): name the one to use")
+                                f"({', '.join(drivers) or 'none'}): give the qp_controller "
+                                "the one it commands with the option 'driver: NAME'")
     return next(iter(drivers.values()))
 
 
 def create_driver(world, name: str | None = None, realtime: bool = True,
-                  time_step: float | None = None, initial=None):
+                  time_step: float | None = None, initial=None,
+                  controller: str | None = None):
     """Build the driver described by the world's processor ``name``.
 
     Args:
         world: The loaded world.
-        name: The driver processor's name; optional when the world has one.
+        name: The driver processor's name; optional when the world has one, or when
+            ``controller`` is given.
         realtime: For ``simulated``: build the threaded driver, which follows the wall
             clock. When false, build the in-thread
             :class:`~robocop_dsl.runtime.driver.SimulatedDriver`, which integrates
@@ -64,6 +67,8 @@ def create_driver(world, name: str | None = None, realtime: bool = True,
             time. ``loopback`` is always real time.
         time_step: The control period [s]; required for the in-thread driver.
         initial: Initial configuration (nq); defaults to the world's ``initial:``.
+        controller: The qp_controller processor whose driver to build (see
+            :func:`driver_processor`).
 
     Returns:
         The driver, not yet connected. ``driver.realtime`` tells whether the control
@@ -72,7 +77,7 @@ def create_driver(world, name: str | None = None, realtime: bool = True,
     Raises:
         DriverConfigError: Unknown type or option, missing or invalid value.
     """
-    processor = driver_processor(world, name)
+    processor = driver_processor(world, name, controller)
     options = dict(processor.options)
     unknown = sorted(set(options) - DRIVER_OPTIONS[processor.type])
     if unknown:
@@ -80,11 +85,11 @@ def create_driver(world, name: str | None = None, realtime: bool = True,
             f"driver '{processor.name}' ({processor.type}): unknown option(s) "
             f"{', '.join(unknown)}; valid: {', '.join(sorted(DRIVER_OPTIONS[processor.type]))}")
     group = _joint_group(world, processor)
-    common = {"initial": initial,
-              "state_timeout": _seconds(options, "state_timeout", DEFAULT_STATE_TIMEOUT),
-              "connect_timeout": _seconds(options, "connect_timeout", DEFAULT_CONNECT_TIMEOUT)}
-    period = period_from_options(options, DEFAULT_PERIOD)
-    command_timeout = _seconds(options, "command_timeout", DEFAULT_COMMAND_TIMEOUT)
+    kind = processor.type
+    common = {"initial": initial, "state_timeout": _seconds(options, kind, "state_timeout"),
+              "connect_timeout": _seconds(options, kind, "connect_timeout")}
+    period = period_from_options(options, option_default(kind, "period"))
+    command_timeout = _seconds(options, kind, "command_timeout")
     if processor.type == "loopback":
         return LoopbackDriver(world, group, _port(processor), bool(options.get("launch")),
                               1.0 / period, command_timeout, **common)
@@ -108,8 +113,9 @@ def _joint_group(world, processor) -> str:
     return group
 
 
-def _seconds(options: dict, key: str, default: float) -> float:
-    return parse_duration(options[key], key) if key in options else default
+def _seconds(options: dict, kind: str, key: str) -> float:
+    """Option ``key`` [s], or its default for driver type ``kind``."""
+    return parse_duration(options[key], key) if key in options else option_default(kind, key)
 
 
 def _port(processor) -> int | None:

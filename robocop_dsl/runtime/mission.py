@@ -15,7 +15,7 @@ from ..compile.load import check_file
 from ..control import Kinematics
 from ..diagnostics import DiagnosticError, RobocopError
 from .build import build_controller, build_program
-from ..drivers import DRIVER_OPTIONS, DriverConfigError, create_driver
+from ..drivers import DriverConfigError, create_driver
 from .cascade import CascadeRunner, ControllerThread, Link, Remote
 from .runner import Runner
 
@@ -82,7 +82,8 @@ class Mission:
         controller = self._controller(world, kinematics, None, solver=solver,
                                       hierarchy=hierarchy, time_step=time_step)
         if driver is None:
-            driver = self._driver(world, None, controller, initial, realtime)
+            driver = self._driver(world, self.spec.controller, controller, initial,
+                                  realtime)
         return Runner(build_program(self.spec), controller, driver, self.name)
 
     def _cascade(self, solver, hierarchy, initial, body_placements, drivers: dict,
@@ -95,7 +96,7 @@ class Mission:
                                                  hierarchy=hierarchy)
             if name not in drivers:
                 drivers[name] = self._driver(world, name, controllers[name], initial,
-                                             realtime)
+                                             realtime, cascade=True)
             links[name] = Link(name, controllers[name].joint_group,
                                [other for other in names if other != name])
         owners = {n: t.controller for n, t in (*self.spec.tasks.items(),
@@ -122,31 +123,33 @@ class Mission:
                 "run-options", str(error), None, "the controller refused this value: check "
                 "the mission's parameters and the run options (--solver, --hierarchy)")]) from None
 
-    def _driver(self, world, controller_name: str | None, controller, initial, realtime: bool):
+    def _driver(self, world, controller_name: str, controller, initial, realtime: bool,
+                cascade: bool = False):
         try:
-            processor = (None if controller_name is None
-                         else driver_of(world, controller.joint_group.name))
+            processor = driver_of(world, controller_name) if cascade else None
             return create_driver(world, processor, realtime=realtime,
-                                 time_step=controller.time_step, initial=initial)
+                                 time_step=controller.time_step, initial=initial,
+                                 controller=controller_name)
         except RobocopError as error:
             raise DiagnosticError([self.spec.source.error(
                 "run-driver", str(error), None,
                 f"see the driver processors in {world.path.name}")]) from None
 
 
-def driver_of(world, joint_group: str) -> str:
-    """The name of the world's driver processor on ``joint_group``.
+def driver_of(world, controller: str) -> str:
+    """The name of the driver processor of the qp_controller ``controller``: the one
+    its ``driver:`` option names, or the only one on its joint group.
 
     Raises:
-        DriverConfigError: None drives it, or several do.
+        DriverConfigError: No driver processor drives its joint group.
     """
-    found = [p.name for p in world.processors.values()
-             if p.type in DRIVER_OPTIONS and p.options.get("joint_group") == joint_group]
-    if len(found) != 1:
-        raise DriverConfigError(f"{len(found) or 'no'} driver processors drive the joint "
-                                f"group '{joint_group}' in {world.path.name}: a cascade needs "
-                                "one per controller, on the controller's joint group")
-    return found[0]
+    driver = getattr(world.processors.get(controller), "driver", None)
+    if driver is None:
+        group = world.processors[controller].options.get("joint_group")
+        raise DriverConfigError(f"no driver processor drives the joint group '{group}' of "
+                                f"'{controller}' in {world.path.name}: a cascade needs one "
+                                "per controller, on the controller's joint group")
+    return driver
 
 
 def load_mission(path: str | Path, world=None) -> Mission:

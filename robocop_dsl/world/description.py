@@ -22,6 +22,7 @@ _MODEL_KEYS = {"include", "path", "namespace", "joint"}
 _JOINT_KEYS = {"parent", "type", "axis", "position", "limits", "name"}
 _LIMIT_KEYS = {"lower", "upper", "velocity", "effort"}
 _TOP_KEYS = {"models", "joint_groups", "initial", "processors"}
+_PROCESSOR_KEYS = {"type", "options"}
 
 
 @dataclass(frozen=True)
@@ -69,12 +70,15 @@ class GroupEntry:
 
 @dataclass
 class ProcessorEntry:
-    """A ``processors:`` entry; duration strings in options are converted to seconds."""
+    """A ``processors:`` entry as written (:mod:`.processors` checks it): where its name,
+    its ``type:`` value and its ``options:`` key are."""
 
     name: str
     type: str
-    options: dict
+    options: YamlMap
     at: Located
+    type_at: Located
+    options_at: Located
 
 
 @dataclass
@@ -291,15 +295,19 @@ class _Reader:
                     "invalid-entry", f"processor '{name}' needs a 'type:'",
                     "for example: {type: qp_controller, options: {...}}"))
                 continue
-            options = entry.get("options") or {}
-            if not isinstance(options, dict):
-                self.out.diagnostics.append(at.error(
-                    "invalid-entry", f"options of processor '{name}' must be a mapping"))
-                options = {}
+            for key in entry:
+                if key not in _PROCESSOR_KEYS:
+                    self._unknown_key(source, entry, key, _PROCESSOR_KEYS)
+            options = entry.get("options")
+            if options is None:
+                options = YamlMap()
+            elif not self._expect(source, options, YamlMap, entry, "options"):
+                options = YamlMap()
             if top or name not in self.out.processors:
                 self.out.processors[name] = ProcessorEntry(
-                    str(name), str(entry["type"]),
-                    {str(k): to_seconds(v) for k, v in options.items()}, at)
+                    str(name), str(entry["type"]), options, at,
+                    Located(source, entry.value_span("type")),
+                    Located(source, entry.span("options") if "options" in entry else at.span))
 
 
 def _looked_in(folder: Path) -> str:

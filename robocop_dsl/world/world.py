@@ -13,17 +13,9 @@ import numpy as np
 from ..diagnostics import Diagnostic, DiagnosticError
 from . import paths
 from .assembly import Assembly, BodyInfo, assemble
-from .description import read_description
+from .description import WorldDescription, read_description
+from .processors import Names, Processor, check_processors
 from .urdf import JointInfo
-
-
-@dataclass(frozen=True)
-class Processor:
-    """A ``processors:`` entry; durations in ``options`` are in seconds."""
-
-    name: str
-    type: str
-    options: dict
 
 
 @dataclass(frozen=True)
@@ -202,7 +194,22 @@ def load_world(path: str | Path, relative_to: Path | None = None) -> World:
             "world-not-found", f"cannot find world file '{path}'", str(path), None,
             hint=f"looked in: {folders} (add folders with ROBOCOP_PATH)")])
     description = read_description(resolved)
-    assembly = assemble(description)
-    processors = {name: Processor(e.name, e.type, dict(e.options))
-                  for name, e in description.processors.items()}
-    return World(resolved, assembly, processors)
+    return World(resolved, *_assemble(description))
+
+
+def _assemble(description: WorldDescription) -> tuple:
+    """The world's assembly and checked processors.
+
+    Raises:
+        DiagnosticError: the problems of both.
+    """
+    try:
+        assembly = assemble(description)
+    except DiagnosticError as error:
+        _, problems = check_processors(description.processors, None)
+        raise DiagnosticError(error.diagnostics + problems) from None
+    names = Names({n: g.joints for n, g in assembly.groups.items()}, set(assembly.joints))
+    processors, problems = check_processors(description.processors, names)
+    if problems:
+        raise DiagnosticError(problems)
+    return assembly, processors
