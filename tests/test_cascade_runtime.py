@@ -124,13 +124,23 @@ def test_losing_the_head_robot_takes_the_failure_path(tmp_path):
     runner = mission.runner(realtime=True, drivers={"head_controller": head})
 
     class Kill(Observer):
-        def on_cycle(self, record):
-            if record.cycle == 100:
-                head.simulator.kill()
+        """Kills the head's simulator once 50 cycles have carried its gaze task (its
+        start-up takes a while on a loaded machine)."""
 
+        killed_at = None
+        watched = 0
+
+        def on_cycle(self, record):
+            self.watched += any(t.name == "watch" for t in record.tasks)
+            if self.killed_at is None and self.watched >= 50:
+                head.simulator.kill()
+                self.killed_at = record.cycle
+
+    kill = Kill()
     runner.add_observer(RunLogger(tmp_path / "log", runner.joint_names))
-    runner.add_observer(Kill())
+    runner.add_observer(kill)
     result = runner.run(duration=10, realtime=True)
+    assert kill.killed_at is not None
     assert (result.outcome, result.final_state) == ("failure", "failed")
     assert result.transitions[-1].condition == "controller.failed"
     events = read_events(tmp_path / "log")
@@ -139,7 +149,7 @@ def test_losing_the_head_robot_takes_the_failure_path(tmp_path):
     assert events[-1]["kind"] == "end" and events[-1]["holding"] is True
     series = read_timeseries(tmp_path / "log")
     assert len(series["time"]) == result.cycles
-    assert np.nanmax(np.degrees(series["error.watch"][:100])) > 1.0
+    assert np.nanmax(np.degrees(series["error.watch"][:kill.killed_at])) > 1.0
 
 
 def test_a_remote_task_is_pending_until_its_controller_applied_the_actions(bazar):
@@ -162,14 +172,18 @@ def test_pickup_watches_the_part_on_one_controller():
     mission = load_mission(MISSIONS / "pickup.mission")
     runner = mission.runner()
     errors = []
+    late = []
 
     class Errors(Observer):
         def on_cycle(self, record):
             view = next((t for t in record.tasks if t.name == "watch"), None)
-            if view is not None and record.time >= 2.0:
-                errors.append(np.degrees(view.error))
+            if record.time >= 2.0:
+                late.append(record.cycle)
+                if view is not None:
+                    errors.append(np.degrees(view.error))
 
     runner.add_observer(Errors())
     result = runner.run(duration=30)
     assert (result.outcome, result.final_state) == ("success", "done")
-    assert len(errors) > 2000 and max(errors) < 5.0
+    assert len(late) > 1000 and len(errors) == len(late)
+    assert max(errors) < 5.0
