@@ -1,8 +1,10 @@
 """``robocop-mission world`` as a user calls it, and the installed wheel's contents."""
 
 import json
+import site
 import subprocess
 import sys
+import sysconfig
 import venv
 import zipfile
 from pathlib import Path
@@ -53,8 +55,12 @@ def test_usage_error_exit_code():
     assert done.returncode == 2 and "invalid choice" in done.stderr
 
 
+PURELIB = "import sysconfig; print(sysconfig.get_paths()['purelib'])"
+
+
 def test_installed_wheel_finds_grammar_and_robots(tmp_path):
-    """A non-editable install run from another folder uses the files inside the wheel."""
+    """A non-editable install run from another folder uses the files inside the wheel;
+    its venv sees the running interpreter's packages (a venv's too) through a .pth."""
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w",
                     str(tmp_path / "dist"), str(REPO)], check=True)
     [wheel] = (tmp_path / "dist").glob("*.whl")
@@ -63,8 +69,13 @@ def test_installed_wheel_finds_grammar_and_robots(tmp_path):
     assert "robocop_dsl/robots/bazar/sophia.yaml" in names
     assert "robocop_dsl/robots/robocop/point.urdf" in names
     env_dir = tmp_path / "venv"
-    venv.create(env_dir, system_site_packages=True, with_pip=True)
+    venv.create(env_dir, with_pip=True)
     python = env_dir / "bin" / "python"
+    inner = subprocess.run([python, "-c", PURELIB], capture_output=True, text=True,
+                           check=True).stdout.strip()
+    outer = dict.fromkeys([sysconfig.get_paths()["purelib"], *site.getsitepackages()])
+    (Path(inner) / "outer_packages.pth").write_text(
+        "".join(f"import site; site.addsitedir({p!r})\n" for p in outer))
     subprocess.run([python, "-m", "pip", "install", "-q", "--no-deps", str(wheel)], check=True)
     done = subprocess.run([env_dir / "bin" / "robocop-mission", "world", "bazar/sophia.yaml"],
                           cwd=tmp_path, capture_output=True, text=True)
