@@ -14,6 +14,13 @@ the weighted problem (proxqp; the body velocity limit as a Pink ``Limit``). Each
 integrates its own command for ``--cycles`` cycles towards targets 5 cm and 0.2 rad
 away; times are per cycle, measured with ``time.perf_counter``.
 
+Collision avoidance (BAZAR, strict): the same problem with ``collision_avoidance`` on
+the arms vs the workbench and the arms vs themselves (arm vs arm, each arm vs itself;
+influence 7 cm), timed from the start posture (no pair within influence) and with
+both tools pressed
+down on the workbench (several pairs within influence), beside the same cycle without
+it; the pairs checked and the mean number within influence are printed.
+
 Usage: ``python bench/controller_cycle.py [--cycles N]``
 """
 
@@ -188,6 +195,78 @@ def pink_step(case, world, q0):
     return step
 
 
+COLLISIONS = (("bazar_arms", "workbench"), ("bazar_arms", "bazar_arms"))
+"""The arms vs the workbench; the arms vs themselves: arm vs arm, each arm vs itself."""
+PRESSED = (np.array([0.6, 0.25, 0.70]), np.array([0.6, -0.25, 0.70]))
+"""Tool targets 4 cm under the workbench surface [m]."""
+
+
+def with_collisions(case, world, q0, goals, avoid):
+    """The strict problem of ``ours`` with body_pose targets ``goals``, with or without
+    the collision constraints; returns the step and the collision constraints."""
+    controller = Controller(world, case["group"], case["time_step"], "proxqp", "strict",
+                            damping=DAMPING)
+    controller.add_constraint("joint_kinematic", "limits", case["group"],
+                              max_acceleration=ACCELERATION)
+    for body in case["bodies"]:
+        controller.add_constraint("body_velocity", f"{body}_speed", body,
+                                  max_linear=MAX_LINEAR, max_angular=MAX_ANGULAR)
+    constraints = [controller.add_constraint("collision_avoidance", f"clear_{index}", first,
+                                             other=second, min_distance=0.02, influence=0.07,
+                                             damping=4.0)
+                   for index, (first, second) in enumerate(COLLISIONS) if avoid]
+    controller.set_auto_enable(True)
+    for body, goal in zip(case["bodies"], goals):
+        controller.add_task("body_pose", body, body, target=goal, gain=GAIN)
+    controller.add_task("joint_position", "posture", case["group"], priority=1,
+                        weight=POSTURE_WEIGHT, gain=GAIN,
+                        target=q0[controller.state.q_indices])
+    return (lambda q: controller.compute(q).velocity), constraints
+
+
+def pressed_posture(case, world, q0, cycles):
+    """Both tools held against the workbench by the collision constraints."""
+    goals = [pin.SE3(pin.rpy.rpyToMatrix(0, np.pi, 0), p) for p in PRESSED]
+    step, _ = with_collisions(case, world, q0, goals, True)
+    group = world.joint_group(case["group"])
+    q = q0.copy()
+    for _ in range(cycles):
+        q[group.q_indices] += step(q) * case["time_step"]
+    return q, goals
+
+
+def collision_rows(cycles) -> None:
+    case = CASES["BAZAR"]
+    world = load_world(case["world"])
+    q0 = world.initial_configuration()
+    for group, positions in case["start"].items():
+        q0[world.joint_group(group).q_indices] = positions
+    q_pressed, pressed = pressed_posture(case, world, q0, 2000)
+    print(f"\n{'BAZAR, strict':<36}{'median us':>10}{'p99 us':>9}{'vs without':>11}"
+          f"{'pairs':>7}{'near':>6}")
+    for label, q, goals in (("start posture", q0, targets(world, case["bodies"], q0)),
+                            ("tools pressed on the workbench", q_pressed, pressed)):
+        without = measure(with_collisions(case, world, q0, goals, False)[0], world, case, q,
+                          cycles)
+        step, constraints = with_collisions(case, world, q0, goals, True)
+        near = []
+
+        def counted(q, step=step, constraints=constraints, near=near):
+            velocity = step(q)
+            near.append(sum(len(c.witnesses) for c in constraints))
+            return velocity
+
+        timed = measure(counted, world, case, q, cycles)
+        checked = sum(c.pairs_checked for c in constraints)
+        base = float(np.median(without))
+        for name, times, pairs, close in ((f"{label}, without", without, "", ""),
+                                          (f"{label}, with", timed, checked,
+                                           f"{np.mean(near):.1f}")):
+            print(f"{name:<36}{np.median(times) * 1e6:>10.1f}"
+                  f"{np.percentile(times, 99) * 1e6:>9.1f}"
+                  f"{np.median(times) / base:>10.2f}x{pairs:>7}{close:>6}")
+
+
 def measure(step, world, case, q0, cycles):
     group = world.joint_group(case["group"])
     q = q0.copy()
@@ -224,6 +303,7 @@ def main(argv=None) -> int:
                     if label.startswith("this") else "")
             print(f"{name:<7}{label:<20}{medians[label] * 1e6:>10.1f}"
                   f"{np.percentile(t, 99) * 1e6:>9.1f}{ratio:>9.2f}x{pink:>11}")
+    collision_rows(args.cycles)
     return 0
 
 

@@ -7,14 +7,19 @@ collects all of them; :class:`DiagnosticError` carries them out of an API call.
 
 from __future__ import annotations
 
+import bisect
 import difflib
+import functools
 import json
+import re
+import unicodedata
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Iterable, Sequence
 
 ERROR = "error"
 WARNING = "warning"
+_QUOTED_WIDTH = 120
 
 
 @dataclass(frozen=True)
@@ -37,20 +42,53 @@ class Span:
         return f"{self.file or default}:{self.line}:{self.column}"
 
 
+# How each parser counts lines: lark's lexer at "\n" only, PyYAML also at a lone
+# "\r", U+0085, U+2028 and U+2029, XML (expat) at "\r\n", "\n" and a lone "\r".
+MISSION_BREAKS = re.compile(r"\n")
+YAML_BREAKS = re.compile(r"\r\n|[\n\r\x85\u2028\u2029]")
+XML_BREAKS = re.compile(r"\r\n|[\n\r]")
+
+
 @dataclass(frozen=True)
 class SourceFile:
-    """A file's path and text, for locating and quoting diagnostics."""
+    """A file's path and text, for locating and quoting diagnostics; ``breaks`` matches
+    a line break the way the file's parser counts them."""
 
     path: str
     text: str
+    breaks: re.Pattern = field(default=MISSION_BREAKS, compare=False, repr=False)
 
     @classmethod
     def read(cls, path: str | Path) -> "SourceFile":
-        return cls(str(path), Path(path).read_text(encoding="utf-8"))
+        """Read ``path`` through :func:`robocop_dsl.sources.read_source` (its kind from
+        its extension); raises :class:`~robocop_dsl.sources.UnreadableSource`."""
+        from .sources import read_source
+        return read_source(path)
+
+    @functools.cached_property
+    def _starts(self) -> list[int]:
+        """Offset of the first character of each line."""
+        return [0, *(match.end() for match in self.breaks.finditer(self.text))]
+
+    @property
+    def line_count(self) -> int:
+        """How many lines the file has (an empty last line after a break counts)."""
+        return len(self._starts)
 
     def line(self, number: int) -> str:
-        lines = self.text.splitlines()
-        return lines[number - 1] if 0 < number <= len(lines) else ""
+        """Line ``number`` (1-based) without its break, or ``""``."""
+        starts = self._starts
+        if not 0 < number <= len(starts):
+            return ""
+        end = starts[number] if number < len(starts) else len(self.text)
+        line = self.text[starts[number - 1]:end]
+        match = self.breaks.search(line)
+        return line[:match.start()] if match else line
+
+    def position(self, offset: int) -> tuple[int, int]:
+        """The 1-based line and column of character ``offset``."""
+        index = bisect.bisect_right(self._starts, offset) - 1
+        return index + 1, offset - self._starts[index] + 1
 
     def error(self, code: str, message: str, span: Span | None, hint: str | None = None,
               severity: str = ERROR, notes: tuple[str, ...] = ()) -> "Diagnostic":
@@ -95,12 +133,14 @@ class Diagnostic:
         if self.span is not None and self.source_line:
             number = str(self.span.line)
             gutter = " " * len(number)
-            text = self.source_line.expandtabs(1)
+            text = _printable(self.source_line.expandtabs(1))
             start = self.span.column - 1
             if self.span.end_line == self.span.line:
                 end = max(self.span.end_column - 1, start + 1)
             else:
                 end = max(len(text.rstrip()), start + 1)
+            if len(text) > _QUOTED_WIDTH:
+                text, start, end = _window(text, start, end)
             lines.append(f" {number} | {text}")
             lines.append(f" {gutter} | {' ' * start}{'^' * (end - start)}")
         if self.hint:
@@ -118,15 +158,43 @@ class Diagnostic:
     def to_github(self) -> str:
         """A GitHub Actions workflow command that annotates the line in a pull request."""
         kind = "error" if self.is_error else "warning"
-        props = [f"file={self.file}"]
+        props = [f"file={_github_property(self.file)}"]
         if self.span is not None:
             props += [f"line={self.span.line}", f"col={self.span.column}",
                       f"endLine={self.span.end_line}", f"endColumn={self.span.end_column}"]
-        props.append(f"title={self.code}")
+        props.append(f"title={_github_property(self.code)}")
         message = self.message + (f" (hint: {self.hint})" if self.hint else "")
         message += "".join(f" (note: {note})" for note in self.notes)
-        escaped = message.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
-        return f"::{kind} {','.join(props)}::{escaped}"
+        return f"::{kind} {','.join(props)}::{_github_data(message)}"
+
+
+def _github_data(text: str) -> str:
+    """``text`` escaped as a workflow command's message."""
+    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def _github_property(text: str) -> str:
+    """``text`` escaped as a workflow command's property value."""
+    return _github_data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+def _window(text: str, start: int, end: int) -> tuple[str, int, int]:
+    """A :data:`_QUOTED_WIDTH`-character piece of a long line around columns
+    ``start:end`` (0-based), "..." marking the cuts; the columns shifted to match."""
+    end = min(end, start + _QUOTED_WIDTH // 2)
+    first = max(0, min(start - _QUOTED_WIDTH // 4, len(text) - _QUOTED_WIDTH))
+    piece = text[first:first + _QUOTED_WIDTH]
+    lead = "..." if first else ""
+    tail = "..." if first + _QUOTED_WIDTH < len(text) else ""
+    shift = len(lead) - first
+    return lead + piece + tail, start + shift, end + shift
+
+
+def _printable(line: str) -> str:
+    """``line`` with each control, format or line-separator character shown as U+FFFD,
+    one column each, so that a quoted line stays one line and the caret stays aligned."""
+    return "".join("\ufffd" if unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp") else c
+                   for c in line)
 
 
 class RobocopError(Exception):

@@ -126,7 +126,7 @@ def test_cascaded_controllers_keep_their_periods_in_real_time():
     result = runner.run(duration=1.5, realtime=True)
     stopped = time.perf_counter()
     start = runner._wall_start
-    assert result.outcome == "stopped" and result.cycles == 300
+    assert result.outcome == "stopped" and result.cycles >= 300   # then the stop's cycles
     assert len(arms_starts.times) == 300 and len(head_starts.times) == head.cycle
     for starts, period, overruns in ((arms_starts, ARMS, result.overruns),
                                      (head_starts, HEAD, head.overruns)):
@@ -182,7 +182,7 @@ def test_a_remote_task_is_pending_until_its_controller_applied_the_actions(bazar
     link = Link("head_controller", bazar.joint_group("bazar_ptu"), ["arms_controller"])
     remote = Remote({"watch": "head_controller"}, {"head_controller": link},
                     "arms_controller")
-    reached = TaskStatus(True, 0.001, 0.001, 0.001)
+    reached = TaskStatus(True, True, 0.001, 0.001, 0.001)
     link.publish_status(ControllerStatus(cycle=3, tasks={"watch": reached}))
     assert remote.status("watch") == reached and not remote.is_local("watch")
     remote.send("watch", lambda thread: None)

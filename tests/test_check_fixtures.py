@@ -70,3 +70,13 @@ def test_one_rendering_exactly():
         " 6 |     max_velocity     = 1 m\n"
         "   |                          ^\n"
         "   = hint: a number without a unit is SI (rad/s)")
+
+
+def test_every_code_the_package_gives_is_documented():
+    """Each diagnostic code written in the package has its entry in docs/diagnostics.md."""
+    text = (REPO / "docs" / "diagnostics.md").read_text()
+    documented = set(re.findall(r"^### `([a-z-]+)`", text, flags=re.MULTILINE))
+    given = {code for path in (REPO / "robocop_dsl").rglob("*.py")
+             for code in re.findall(r"(?:error|warning)\(\s*\"([a-z]+(?:-[a-z]+)+)\"",
+                                    path.read_text())}
+    assert given - documented == set()

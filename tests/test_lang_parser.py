@@ -33,7 +33,8 @@ def test_pickup_structure():
     assert header.description.startswith("Pick the part")
     assert mission.first(ast.WorldDecl).path.text == "bazar/sophia.yaml"
     assert [t.name.text for t in mission.tasks] == ["arms", "left_tool", "watch"]
-    assert [c.kind.text for c in mission.constraints] == ["joint_kinematic", "body_velocity"]
+    assert [c.kind.text for c in mission.constraints] == [
+        "joint_kinematic", "body_velocity", "collision_avoidance", "collision_avoidance"]
     assert [s.name.text for s in mission.states] == [
         "goto_initial_pose", "approach", "grasp", "lift", "move_to_drop", "release",
         "return", "done", "failed"]

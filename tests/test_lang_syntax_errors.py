@@ -78,8 +78,8 @@ def test_generic_error_lists_what_was_expected():
     """An unexpected token is shown with the expected ones."""
     diagnostic = parse_mission("state a {\n  when x.reached and -> b\n}\n").diagnostics[0]
     assert diagnostic.message == "unexpected '->'"
-    assert diagnostic.hint == ("expected '(', 'distance', 'elapsed', 'event', 'not', 'time', "
-                               "a name")
+    assert diagnostic.hint == ("expected '(', 'clearance', 'distance', 'elapsed', 'event', "
+                               "'not', 'time', a name")
 
 
 def test_unterminated_string():

@@ -112,7 +112,7 @@ def test_turn_is_bounded_by_the_angular_limits(tmp_path, angular):
                 enable tool
                 tool.target = pose(position = {text(position)} m, rpy = {text(rpy)} rad)
             }}
-            when tool.reached -> done
+            when tool.interpolated -> done
             when elapsed > 8 s -> late
         }}
         final done

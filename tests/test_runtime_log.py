@@ -80,3 +80,28 @@ def test_long_configurations_get_fewer_legend_columns():
     assert legend_columns(long) == 2
     assert legend_columns([f"state_{i}" for i in range(12)]) == 8
     assert legend_columns(["only"]) == 1
+
+
+def test_pose_errors_are_logged_in_metres_and_radians(tmp_path):
+    """Each error field says its unit; a pose task's error also comes as its position
+    [m] and orientation [rad] parts, whose root sum of squares is the logged norm."""
+    import pyarrow.parquet as pq
+
+    from conftest import MISSIONS
+    from robocop_dsl.runtime import load_mission
+
+    runner = load_mission(MISSIONS / "pickup.mission").runner()
+    runner.add_observer(RunLogger(tmp_path, runner.joint_names))
+    runner.run(duration=3.0)
+    units = {f.name: f.metadata[b"unit"].decode()
+             for f in pq.read_schema(tmp_path / "timeseries.parquet") if f.metadata}
+    assert units["error.arms"] == "rad" and units["error.watch"] == "rad"
+    assert units["error.left_tool"] == "m+rad"
+    assert (units["error.left_tool.position"], units["error.left_tool.orientation"]) == (
+        "m", "rad")
+    data = read_timeseries(tmp_path)
+    logged = ~np.isnan(data["error.left_tool"])
+    assert logged.sum() > 10
+    np.testing.assert_allclose(np.hypot(data["error.left_tool.position"][logged],
+                                        data["error.left_tool.orientation"][logged]),
+                               data["error.left_tool"][logged], rtol=1e-9)

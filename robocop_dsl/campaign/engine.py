@@ -1,6 +1,7 @@
 """Where jobs run: in this process, on a local Dask cluster of processes, or on a
 running Dask scheduler. Every engine yields one row per job as jobs finish; the order
-of the rows does not matter (the table is sorted by job)."""
+of the rows does not matter (the table is sorted by job). A local cluster's scheduler,
+workers and dashboard listen on the loopback interface only."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from typing import Callable, Iterator
 from .worker import job_row, run_job
 
 CONNECT_TIMEOUT = "20s"
+LOOPBACK = "127.0.0.1"
 
 
 class SerialEngine:
@@ -90,7 +92,8 @@ def open_engine(workers: int | None = None, scheduler: str | None = None,
         return
     count = workers or os.cpu_count() or 1
     with LocalCluster(n_workers=count, threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
+                      host=LOOPBACK, dashboard_address=f"{LOOPBACK}:0",
+                      silence_logs=logging.ERROR) as cluster, \
             Client(cluster) as client:
         yield DaskEngine(client, f"local Dask cluster of {count} worker processes")
 

@@ -25,21 +25,30 @@ class BudgetExceeded(RobocopError):
 
 
 class Budget(Observer):
-    """Stops a run, by raising :class:`BudgetExceeded` from a cycle, once the wall time
-    since ``started`` (a ``time.perf_counter()`` reading) exceeds ``seconds``."""
+    """Ends a job once the wall time since ``started`` (a ``time.perf_counter()``
+    reading) exceeds ``seconds``: :meth:`check` raises :class:`BudgetExceeded` before
+    the run, and during it the run is stopped (the robot brought to rest) with
+    :attr:`exceeded` set."""
 
     wants_tasks = False
 
     def __init__(self, seconds: float | None, started: float):
         self.seconds = seconds
         self.deadline = math.inf if seconds is None else started + seconds
+        self.exceeded: BudgetExceeded | None = None
+        self._runner = None
 
     def check(self) -> None:
         if time.perf_counter() > self.deadline:
             raise BudgetExceeded(self.seconds)
 
+    def on_start(self, runner) -> None:
+        self._runner = runner
+
     def on_cycle(self, record) -> None:
-        self.check()
+        if self.exceeded is None and time.perf_counter() > self.deadline:
+            self.exceeded = BudgetExceeded(self.seconds)
+            self._runner.stop(str(self.exceeded), "stopped")
 
 
 RESOLUTION = 9

@@ -9,11 +9,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import yaml
-
 from ..diagnostics import DiagnosticError, SourceFile, Span, did_you_mean, sort_key
 from ..world.description import to_seconds
-from ..world.yaml_source import YamlList, YamlMap, load_yaml
+from ..world.yaml_source import YamlList, YamlMap, parse_yaml
 from .spec import SETTINGS, BodyMove, CampaignSpec, MissionEntry, Normal, PostureNoise, \
     Uniform, VariantEntry, Where
 
@@ -45,11 +43,9 @@ def read_campaign(path: str | Path) -> CampaignSpec:
 
 
 def _load(source: SourceFile) -> YamlMap:
-    try:
-        return load_yaml(source)
-    except DiagnosticError:
-        if not _is_yaml(source.text):
-            raise
+    data = parse_yaml(source)
+    if data is None or isinstance(data, YamlMap):
+        return data if data is not None else YamlMap()
     raise DiagnosticError([source.error(
         "not-a-campaign", "a campaign file must be a mapping with a 'missions:' list", Span.point(1),
         "start the file with 'missions:'")])
@@ -284,14 +280,6 @@ class _Reader:
 
 def _is_number(value) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
-def _is_yaml(text: str) -> bool:
-    try:
-        yaml.safe_load(text)
-    except yaml.YAMLError:
-        return False
-    return True
 
 
 def _descending(low: tuple, high: tuple) -> bool:

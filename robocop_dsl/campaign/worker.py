@@ -120,6 +120,8 @@ def _run(job, cache: WorkerCache) -> dict:
         row.update(outcome=result.outcome, final_state=result.final_state,
                    mission_time=result.mission_time, cycles=result.cycles,
                    qp_failures=result.qp_failures, message=result.message)
+        if budget.exceeded is not None:
+            row.update(outcome="timeout", message=str(budget.exceeded))
     except BudgetExceeded as error:
         row.update(outcome="timeout", message=str(error), **_progress(runner))
     except Exception as error:

@@ -25,6 +25,7 @@ _NAME_FIELDS = {
     ast.Assign: ("owner",), ast.Member: ("owner",), ast.Attach: ("body", "parent"),
     ast.Detach: ("body",), ast.Emit: ("event",), ast.EventCondition: ("event",),
     ast.Offset: ("body",), ast.Distance: ("first", "second"),
+    ast.Clearance: ("first", "second"),
 }
 
 

@@ -14,6 +14,7 @@ from .declarations import check_controller, check_declarations, check_header, co
 from .expand import Expander
 from .graph_checks import check_behavior_graph, check_state_graph
 from .imports import merge_imports
+from .joint_limits import check_joint_limits
 from .regions import check_regions
 from .states import check_machine, check_machines
 
@@ -37,6 +38,7 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None,
     expanded = expander.mission(merged)
     ctx.all_states = state_names(expanded.machine)
     check_declarations(ctx, expanded)
+    check_joint_limits(ctx, expanded)
     check_assignment(ctx, expanded)
     check_machines(ctx, expanded)
     check_regions(ctx, expanded.machine)

@@ -6,6 +6,7 @@ from ..lang import ast
 from ..lang.catalogue import (GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE, ORIENTATION_SPACE,
                               POSE_SPACE, POSITION, POSITION_SPACE, TWIST_SPACE, VELOCITY)
 from ..lang.units import ANGLE, ANGULAR_VELOCITY, DIMENSIONLESS, LENGTH, LINEAR_VELOCITY, TIME
+from .collisions import check_collision_set
 from .context import CheckContext
 from .declarations import subject_of
 from .parameters import check_body
@@ -15,7 +16,7 @@ CONTROLLER = "controller"
 DONE = "done"
 VISITS = "visits"
 STATE_FIELDS = (DONE, VISITS)
-TASK_FLAGS = ("reached",)
+TASK_FLAGS = ("reached", "interpolated")
 CONTROLLER_FLAGS = ("failed",)
 TASK_MEASURES = ("error", "position_error", "orientation_error")
 _MEASURES_BY_SPACE = {
@@ -63,7 +64,7 @@ def _measure_text(measure: ast.Measure) -> str:
     if isinstance(measure, ast.Member):
         return f"{measure.owner.text}.{measure.field.text}"
     if isinstance(measure, ast.Distance):
-        return "distance"
+        return "clearance" if isinstance(measure, ast.Clearance) else "distance"
     return "elapsed" if isinstance(measure, ast.Elapsed) else "time"
 
 
@@ -179,7 +180,7 @@ def _check_flag(ctx: CheckContext, member: ast.Member) -> None:
                   f"compare it: {member.owner.text}.{field} < 1 mm")
     elif field not in TASK_FLAGS:
         ctx.unknown("unknown-field", "field", member.field, TASK_FLAGS + TASK_MEASURES,
-                    "tasks have: reached, error, position_error, orientation_error",
+                    "tasks have: " + ", ".join(TASK_FLAGS + TASK_MEASURES),
                     where=f" of task '{member.owner.text}'")
 
 
@@ -187,6 +188,9 @@ def measure_dimensions(ctx: CheckContext, measure: ast.Measure) -> tuple[str, ..
     """What a measure may be compared with; ``None`` after reporting a bad measure."""
     if isinstance(measure, (ast.Elapsed, ast.Time)):
         return (TIME,)
+    if isinstance(measure, ast.Clearance):
+        known = [check_collision_set(ctx, name) for name in (measure.first, measure.second)]
+        return (LENGTH,) if all(known) else None
     if isinstance(measure, ast.Distance):
         known = [check_body(ctx, name) for name in (measure.first, measure.second)]
         return (LENGTH,) if all(known) else None
@@ -214,7 +218,7 @@ def measure_dimensions(ctx: CheckContext, measure: ast.Measure) -> tuple[str, ..
     subject = subject_of(ctx, task)
     if field not in TASK_MEASURES:
         ctx.unknown("unknown-field", "field", measure.field, TASK_FLAGS + TASK_MEASURES,
-                    "tasks have: reached, error, position_error, orientation_error",
+                    "tasks have: " + ", ".join(TASK_FLAGS + TASK_MEASURES),
                     where=f" of task '{measure.owner.text}'")
         return None
     if subject is None:
@@ -222,7 +226,7 @@ def measure_dimensions(ctx: CheckContext, measure: ast.Measure) -> tuple[str, ..
     allowed = _MEASURES_BY_SPACE.get(subject.space, ("error",))
     if field not in allowed:
         ctx.error("unknown-field", f"a {subject.kind.name} task has no '{field}'",
-                  measure.field.span, "it has: reached, " + ", ".join(allowed))
+                  measure.field.span, "it has: " + ", ".join(TASK_FLAGS + allowed))
         return None
     if field == "position_error":
         return (LENGTH,)

@@ -155,7 +155,8 @@ class CheckContext:
     number or a vector. ``expanded`` is the mission with constants and behaviour
     instances bound, once checked, and ``unused`` the behaviours that no instance exposes (name and machine, checked with
     generic bindings); ``imports_parsed`` is false when an imported file has a syntax
-    error.
+    error. ``declared`` holds, by constraint name, the value and numbers [SI] its
+    declaration gives to each parameter that must stay ordered (``min_position``...).
     """
 
     def __init__(self, source: SourceFile, world=None):
@@ -175,6 +176,7 @@ class CheckContext:
         self.expanded = ast.Mission()
         self.unused: list[tuple[ast.Name, ast.Machine]] = []
         self.imports_parsed = True
+        self.declared: dict[str, dict[str, tuple]] = {}
 
     def source_of(self, span: Span | None) -> SourceFile:
         """The file a span is in."""

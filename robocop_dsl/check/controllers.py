@@ -12,7 +12,7 @@ controller (the smallest time step; the first declared on a tie).
 from __future__ import annotations
 
 from ..lang import ast
-from ..lang.catalogue import CONSTRAINTS, JOINT_GROUP, TASKS
+from ..lang.catalogue import COLLISION_SETS, CONSTRAINTS, JOINT_GROUP, TASKS
 from .context import CheckContext, WorldNames
 
 
@@ -46,6 +46,9 @@ def subject_joints(names: WorldNames, decl) -> set:
     """The moving joints that move a declaration's subject (empty when unknown)."""
     registry = TASKS if isinstance(decl, ast.TaskDecl) else CONSTRAINTS
     kind = registry.get(decl.kind.text)
+    if kind is not None and kind.subject == COLLISION_SETS and len(decl.arguments) == 2:
+        return set().union(*(names.group_joints(a.text) if names.joints(a.text) is not None
+                             else names.body_joints(a.text) for a in decl.arguments))
     if kind is None or len(decl.arguments) != 1:
         return set()
     subject = decl.arguments[0].text
@@ -93,6 +96,9 @@ def check_assignment(ctx: CheckContext, mission: ast.Mission) -> None:
 def _known_subject(names: WorldNames, decl) -> bool:
     registry = TASKS if isinstance(decl, ast.TaskDecl) else CONSTRAINTS
     kind = registry.get(decl.kind.text)
+    if kind is not None and kind.subject == COLLISION_SETS and len(decl.arguments) == 2:
+        return all(names.joints(a.text) is not None or names.world.has_body(a.text)
+                   for a in decl.arguments)
     if kind is None or len(decl.arguments) != 1:
         return False
     subject = decl.arguments[0].text

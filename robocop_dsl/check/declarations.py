@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from ..diagnostics import Span
 from ..lang import ast
-from ..lang.catalogue import CONSTRAINTS, JOINT_GROUP, TASKS, Registry
+from ..lang.catalogue import COLLISION_SETS, CONSTRAINTS, JOINT_GROUP, TASKS, Registry
+from .collisions import check_collision_constraint
 from .context import CheckContext
 from .controllers import cascade_controllers
 from .parameters import Subject, check_body, check_parameters
@@ -144,6 +145,9 @@ def _check_declaration(ctx: CheckContext, decl, registry: Registry, code: str) -
         ctx.unknown(code, registry.family, decl.kind, registry.names(),
                     f"{registry.family}s: {', '.join(registry.names())}")
         return
+    if kind.subject == COLLISION_SETS:
+        check_collision_constraint(ctx, decl, kind)
+        return
     subject_word = "joint group" if kind.subject == JOINT_GROUP else "body"
     if len(decl.arguments) != 1:
         ctx.error("wrong-arguments", f"{kind.name} takes one {subject_word}, "
@@ -160,4 +164,8 @@ def _check_declaration(ctx: CheckContext, decl, registry: Registry, code: str) -
         return
     given = [(p.name, p.value) for p in decl.parameters]
     owner = f"{'task' if isinstance(decl, ast.TaskDecl) else 'constraint'} '{decl.name.text}'"
-    check_parameters(ctx, given, kind, subject_of(ctx, decl), owner, decl.name.span)
+    numbers = check_parameters(ctx, given, kind, subject_of(ctx, decl), owner,
+                               decl.name.span)
+    ordered = {name for pair in kind.ordered for name in pair}
+    ctx.declared.setdefault(decl.name.text, {k: v for k, v in numbers.items()
+                                             if k in ordered})

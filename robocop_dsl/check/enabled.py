@@ -1,8 +1,9 @@
 """What may be enabled while a state's clauses are checked, on some path to it.
 
 Per machine, parents first: a machine starts with what may be enabled inside its owner
-state (the mission's with its constraints; a machine whose owner cannot be reached is
-left out); a state adds what its ``enter`` and ``during`` blocks enable and what any
+state (the mission's with what is enabled from the start: its constraints but those
+declared ``enabled = false``, and its tasks declared ``enabled = true``; a machine whose
+owner cannot be reached is left out); a state adds what its ``enter`` and ``during`` blocks enable and what any
 state nested in it may enable, removes what they disable, and hands what its ``exit``
 leaves to the states its clauses lead to. A parallel state's regions also see what their
 sibling regions may enable.
@@ -12,8 +13,8 @@ from __future__ import annotations
 
 import networkx as nx
 
-from ..compile.state_graph import machine_graph
 from ..lang import ast
+from ..lang.catalogue import SWITCH_WORDS
 from .context import CheckContext
 
 
@@ -26,6 +27,20 @@ def _apply(blocks, enabled: frozenset[str]) -> frozenset[str]:
             elif isinstance(action, ast.Disable):
                 result.difference_update(n.text for n in action.names)
     return frozenset(result)
+
+
+def enabled_from_start(mission: ast.Mission) -> frozenset[str]:
+    """The tasks and constraints active when the mission starts: constraints unless
+    declared ``enabled = false``, tasks declared ``enabled = true``."""
+    found = set()
+    for decls, default in ((mission.constraints, True), (mission.tasks, False)):
+        for decl in decls:
+            value = next((p.value for p in decl.parameters if p.name.text == "enabled"),
+                         None)
+            switch = value.name.text if isinstance(value, ast.Reference) else None
+            if (switch == "true") if switch in SWITCH_WORDS else default:
+                found.add(decl.name.text)
+    return frozenset(found)
 
 
 def enabled_within(state: ast.StateDecl, memo: dict | None = None) -> frozenset[str]:
@@ -54,7 +69,7 @@ def may_be_enabled(ctx: CheckContext, graph: nx.DiGraph, decls: dict) -> dict[st
         if info.start is None:
             continue
         if info.owner is None:
-            initial = frozenset(ctx.symbols.constraints)
+            initial = enabled_from_start(ctx.expanded)
         elif info.owner not in inside:
             continue
         else:
@@ -68,18 +83,23 @@ def may_be_enabled(ctx: CheckContext, graph: nx.DiGraph, decls: dict) -> dict[st
 
 def _machine(graph: nx.DiGraph, info, decls: dict, initial: frozenset, inside: dict,
              memo: dict) -> None:
-    sub = machine_graph(graph, info.path)
+    states = frozenset(info.states)
     arriving: dict[str, frozenset[str]] = {p: frozenset() for p in info.states}
     arriving[info.start] = initial
-    pending = [info.start]
+    pending, queued = [info.start], {info.start}
     while pending:
         path = pending.pop()
+        queued.discard(path)
         state = decls[path]
         inside[path] = _apply((state.block("enter"), state.block("during")),
                               arriving[path]) | enabled_within(state, memo)
         leaving = _apply((state.block("exit"),), inside[path])
-        for successor in sub.successors(path):
+        for successor in graph.successors(path):
+            if successor not in states:
+                continue
             merged = arriving[successor] | leaving
             if merged != arriving[successor] or successor not in inside:
                 arriving[successor] = merged
-                pending.append(successor)
+                if successor not in queued:
+                    queued.add(successor)
+                    pending.append(successor)

@@ -22,6 +22,8 @@ from .enabled import may_be_enabled
 from .expand import instance_note
 
 _NON_NEGATIVE = (ast.Elapsed, ast.Time, ast.Distance, ast.Member)
+"""Measures that are never negative (a clearance, a `Distance` too, is negative when
+shapes overlap)."""
 
 
 def check_state_graph(ctx: CheckContext, mission: ast.Mission, graph: nx.DiGraph) -> None:
@@ -189,6 +191,7 @@ def truth(condition: ast.Condition) -> bool | None:
             return decisive
         return (not decisive) if all(v is not None for v in values) else None
     if isinstance(condition, ast.Comparison) and isinstance(condition.measure, _NON_NEGATIVE) \
+            and not isinstance(condition.measure, ast.Clearance) \
             and isinstance(condition.quantity, ast.Quantity):
         value, operator = condition.quantity.value, condition.operator
         if (operator == ">=" and value <= 0) or (operator == ">" and value < 0):

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from ..diagnostics import SourceFile, did_you_mean
 from ..lang import ast, parse_mission
+from ..sources import MISSION, UnreadableSource, read_source
 from ..world.paths import resolve
 from .context import CheckContext
 from .rewrite import in_file
@@ -28,7 +29,6 @@ _NOT_IN_LIBRARY = ((ast.StateDecl, "a state", _KEEP), (ast.StartDecl, "'start'",
                    (ast.ControllerDecl, "a controller",
                     "name the controller in the mission that imports it"))
 _MACHINE_ITEMS = (ast.StateDecl, ast.StartDecl, ast.Transition)
-MAX_IMPORT_BYTES = 1 << 20
 
 
 def display_path(path: Path) -> str:
@@ -84,7 +84,12 @@ class _Loader:
 
     def load(self, item: ast.Import, folder: Path | None) -> None:
         ctx, name = self.ctx, item.path.text
-        path = resolve(name, folder) if name else None
+        try:
+            path = resolve(name, folder) if name else None
+        except (OSError, ValueError) as error:
+            ctx.error("import-not-found", f"cannot read imported file '{name}': "
+                      f"{getattr(error, 'strerror', None) or error}", item.path.span)
+            return
         if path is None or not path.is_file():
             ctx.error("import-not-found", f"imported file '{name}' not found", item.path.span,
                       _near(name, folder) or "looked beside the importing file, in the "
@@ -111,12 +116,10 @@ class _Loader:
     def _parse(self, item: ast.Import, path: Path) -> ast.Mission | None:
         shown = display_path(path)
         try:
-            if path.stat().st_size > MAX_IMPORT_BYTES:
-                raise OSError(f"larger than {MAX_IMPORT_BYTES} bytes")
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError, ValueError) as error:
+            text = read_source(path, MISSION).text
+        except UnreadableSource as error:
             self.ctx.error("import-not-found", f"cannot read imported file '{item.path.text}': "
-                           f"{getattr(error, 'strerror', None) or error}", item.path.span)
+                           f"{error.reason}", item.path.span)
             return None
         tree, diagnostics = parsed_library(text, shown)
         self.ctx.sources[shown] = SourceFile(shown, text)

@@ -6,12 +6,14 @@ from dataclasses import dataclass
 
 from ..lang import ast
 from ..lang.catalogue import (BODY, FEEDBACK, FEEDBACKS, INTEGER, INTERPOLATOR,
-                              INTERPOLATORS, PER_DOF, SCALAR, TARGET, Kind, Parameter,
-                              Range, Registry)
+                              INTERPOLATORS, NORM_OR_AXES, PER_AXIS, PER_DOF, SCALAR,
+                              SPACE_AXES, SWITCH, SWITCH_WORDS, TARGET, TOLERANCE, Kind,
+                              Parameter, Range, Registry)
 from ..lang.units import describe
 from .context import CheckContext, Joints
 from .targets import check_target
-from .values import check_per_dof, check_quantity, space_dimensions
+from .tolerance import check_tolerance
+from .values import check_per_dof, check_quantity, check_vector, space_dimensions
 
 
 @dataclass(frozen=True)
@@ -31,6 +33,13 @@ class Subject:
             return self.joints.dofs
         return None if self.kind.subject == "joint_group" else 1
 
+    @property
+    def axes(self) -> int | None:
+        """The task's coordinates: one per dof for joints, else its space's axes."""
+        if self.kind.subject == "joint_group":
+            return self.dofs
+        return SPACE_AXES.get(self.space)
+
 
 def check_value(ctx: CheckContext, parameter: Parameter, value: ast.Value, subject: Subject,
                 what: str) -> tuple[float, ...] | None:
@@ -48,6 +57,15 @@ def check_value(ctx: CheckContext, parameter: Parameter, value: ast.Value, subje
         numbers = None if number is None else (number,)
     elif parameter.kind == PER_DOF:
         numbers = check_per_dof(ctx, value, dimensions, what, subject.dofs)
+    elif parameter.kind == PER_AXIS:
+        numbers = check_per_dof(ctx, value, dimensions, what, subject.axes)
+    elif parameter.kind == NORM_OR_AXES:
+        numbers = _check_norm_or_axes(ctx, value, dimensions, what)
+    elif parameter.kind == TOLERANCE:
+        check_tolerance(ctx, value, subject.space, subject.joints, what)
+        return None
+    elif parameter.kind == SWITCH:
+        _check_switch(ctx, value, what)
     elif parameter.kind == INTEGER:
         if (not isinstance(value, ast.Quantity) or value.unit is not None
                 or not value.value.is_integer()):
@@ -66,6 +84,25 @@ def check_value(ctx: CheckContext, parameter: Parameter, value: ast.Value, subje
     if numbers is not None and parameter.valid is not None:
         check_range(ctx, parameter.valid, numbers, value, subject.joints, what)
     return numbers
+
+
+def _check_norm_or_axes(ctx: CheckContext, value: ast.Value, dimensions: tuple[str, ...],
+                        what: str) -> tuple[float, ...] | None:
+    """One number (a bound on the norm) or a 3-vector (one bound per axis), in SI."""
+    if isinstance(value, ast.Quantity):
+        number = check_quantity(ctx, value, dimensions, what)
+        return None if number is None else (number,)
+    if isinstance(value, ast.Vector):
+        return check_vector(ctx, value, dimensions, what, 3)
+    ctx.error("wrong-value", f"{what} expects {describe(dimensions)}", value.span,
+              "one number bounds the norm, a vector [x, y, z] bounds each axis")
+    return None
+
+
+def _check_switch(ctx: CheckContext, value: ast.Value, what: str) -> None:
+    if not (isinstance(value, ast.Reference) and value.name.text in SWITCH_WORDS):
+        ctx.error("wrong-value", f"{what} expects true or false", value.span,
+                  "for example: enabled = true")
 
 
 def check_range(ctx: CheckContext, valid: Range, numbers: tuple[float, ...],
@@ -102,8 +139,10 @@ def check_body(ctx: CheckContext, name: ast.Name) -> bool:
 
 
 def check_parameters(ctx: CheckContext, given: list[tuple[ast.Name | None, ast.Value]],
-                     kind: Kind, subject: Subject, owner: str, span) -> None:
-    """Check a declaration's ``name = value`` list or a call's arguments against ``kind``.
+                     kind: Kind, subject: Subject, owner: str, span
+                     ) -> dict[str, tuple[ast.Value, tuple[float, ...] | None]]:
+    """Check a declaration's ``name = value`` list or a call's arguments against ``kind``;
+    return each parameter's value and its numbers in SI (``None`` when unusable).
 
     Positional arguments (name ``None``) take the parameters in their declared order.
     """
@@ -142,14 +181,17 @@ def check_parameters(ctx: CheckContext, given: list[tuple[ast.Name | None, ast.V
         ctx.error("missing-parameter",
                   f"{owner} needs {', '.join(repr(m) for m in missing)}", span,
                   _parameters_hint(kind))
+    return numbers
 
 
 def check_order(ctx: CheckContext, low: str, high: str,
                 numbers: dict[str, tuple[ast.Value, tuple[float, ...] | None]],
-                joints: Joints | None) -> None:
+                joints: Joints | None, located: str | None = None,
+                declared: str | None = None) -> None:
     """Report the first joint where ``low`` is above ``high`` [SI]; an absent one is
     the URDF limit, neither given is left to the world's checks, an unusable one to its
-    own error."""
+    own error. The error is at the value of ``located`` (default: the first given);
+    ``declared`` names one that the constraint's declaration gives (for an action)."""
     given = [name for name in (low, high) if name in numbers]
     if joints is None or not given or any(numbers[n][1] is None for n in given):
         return
@@ -161,10 +203,12 @@ def check_order(ctx: CheckContext, low: str, high: str,
     index = bad[0]
     unit = "m" if joints.joint_types[index] == "prismatic" else "rad"
     more = f" (and {len(bad) - 1} more joints)" if len(bad) > 1 else ""
-    span = numbers[given[0]][0].span
+    span = numbers[located or given[0]][0].span
     defaulted = "" if len(given) == 2 else (
         f", the URDF's {'upper' if low in numbers else 'lower'} limit that '"
         f"{high if low in numbers else low}' defaults to")
+    if declared is not None:
+        defaulted = f", '{declared}' as declared at {ctx.where(numbers[declared][0].span)}"
     ctx.error("inverted-limits",
               f"'{low}' is above '{high}' at joint {index + 1} of '{joints.name}': "
               f"{lows[index]:.4g} > {highs[index]:.4g} {unit}{defaulted}{more}", span,

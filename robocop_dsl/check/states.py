@@ -4,10 +4,12 @@ where they lead, regions. Runs on the expanded tree (see :mod:`.expand`)."""
 from __future__ import annotations
 
 from ..lang import ast
+from ..lang.catalogue import SWITCH
 from .conditions import check_condition
 from .context import CheckContext
 from .declarations import subject_of
 from .expand import instance_note
+from .assigned_limits import check_assigned_order
 from .parameters import check_body, check_value
 
 OUTCOMES = ("success", "failure")
@@ -85,8 +87,7 @@ def _check_state(ctx: CheckContext, state: ast.StateDecl, scope: tuple, root: bo
                       f"'{state.name.text}'", block.span,
                       f"the first is at {ctx.where(seen[block.kind].span)}; merge them")
         seen.setdefault(block.kind, block)
-        for action in block.actions:
-            check_action(ctx, action)
+        check_actions(ctx, block.actions)
     if state.final:
         _check_final(ctx, state, root)
     previous = ctx.scope
@@ -153,8 +154,7 @@ def _check_final(ctx: CheckContext, state: ast.StateDecl, root: bool) -> None:
 def check_transition(ctx: CheckContext, transition: ast.Transition, local: dict) -> None:
     """A clause's condition, its actions and its target, a state of ``local``."""
     check_condition(ctx, transition.condition)
-    for action in transition.actions:
-        check_action(ctx, action)
+    check_actions(ctx, transition.actions)
     target = transition.target
     if target.text in local:
         return
@@ -174,8 +174,19 @@ def check_transition(ctx: CheckContext, transition: ast.Transition, local: dict)
               "a clause leads to a state of its own machine", target.span, hint)
 
 
-def check_action(ctx: CheckContext, action: ast.Action) -> None:
-    """One action of an ``enter``/``during``/``exit`` block or of a transition."""
+def check_actions(ctx: CheckContext, actions) -> None:
+    """The actions of a block or a transition, and the limits they leave in place."""
+    assigned = []
+    for action in actions:
+        numbers = check_action(ctx, action)
+        if isinstance(action, ast.Assign):
+            assigned.append((action, numbers))
+    check_assigned_order(ctx, assigned)
+
+
+def check_action(ctx: CheckContext, action: ast.Action) -> tuple[float, ...] | None:
+    """One action of an ``enter``/``during``/``exit`` block or of a transition; for an
+    assignment, the numbers it assigns [SI] when usable."""
     if isinstance(action, (ast.Enable, ast.Disable)):
         for name in action.names:
             if name.text not in ctx.symbols.tasks and name.text not in ctx.symbols.constraints \
@@ -190,7 +201,7 @@ def check_action(ctx: CheckContext, action: ast.Action) -> None:
             elif name.text not in ctx.symbols.tasks and name.text not in ctx.generic:
                 ctx.unknown("unknown-task", "task", name, ctx.symbols.tasks)
     elif isinstance(action, ast.Assign):
-        _check_assign(ctx, action)
+        return _check_assign(ctx, action)
     elif isinstance(action, ast.Attach):
         if all([check_body(ctx, action.body), check_body(ctx, action.parent)]) \
                 and action.body.text == action.parent.text:
@@ -198,26 +209,29 @@ def check_action(ctx: CheckContext, action: ast.Action) -> None:
                       action.span)
     elif isinstance(action, ast.Detach):
         check_body(ctx, action.body)
+    return None
 
 
-def _check_assign(ctx: CheckContext, action: ast.Assign) -> None:
+def _check_assign(ctx: CheckContext, action: ast.Assign) -> tuple[float, ...] | None:
     owner = action.owner.text
     if owner in ctx.generic:
-        return
+        return None
     decl = ctx.symbols.tasks.get(owner) or ctx.symbols.constraints.get(owner)
     if decl is None:
         ctx.unknown("unknown-task", "task or constraint", action.owner,
                     ctx.symbols.controlled())
-        return
+        return None
     subject = subject_of(ctx, decl)
     if subject is None:
-        return
+        return None
     settable = [p for p in subject.kind.parameters if p.settable]
     parameter = subject.kind.parameter(action.field.text)
     if parameter is None or not parameter.settable:
         names = [p.name for p in settable]
         extra = (f"'{action.field.text}' is set in the declaration only" if parameter
                  else f"a {subject.kind.name} can set: {', '.join(names) or 'nothing'}")
+        if parameter is not None and parameter.kind == SWITCH:
+            extra = f"write: enable {owner} (or disable {owner})"
         if parameter is not None:
             ctx.error("unknown-field", f"'{owner}.{action.field.text}' cannot be changed "
                       "by an action", action.field.span, extra)
@@ -225,7 +239,8 @@ def _check_assign(ctx: CheckContext, action: ast.Assign) -> None:
             ctx.unknown("unknown-field", "field", action.field, names, extra,
                         where=f" of {subject.kind.name} task '{owner}'"
                         if owner in ctx.symbols.tasks else f" of constraint '{owner}'")
-        return
+        return None
     if ctx.opaque(action.value):
-        return
-    check_value(ctx, parameter, action.value, subject, f"'{owner}.{action.field.text}'")
+        return None
+    return check_value(ctx, parameter, action.value, subject,
+                       f"'{owner}.{action.field.text}'")

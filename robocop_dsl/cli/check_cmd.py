@@ -11,7 +11,6 @@ import json
 import sys
 from pathlib import Path
 
-from ..compile import WorldCache, check_file
 from ..diagnostics import ERROR, Diagnostic
 
 FORMATS = ("text", "json", "github")
@@ -51,10 +50,13 @@ def _summary(path: str, diagnostics: list[Diagnostic]) -> str:
 
 def run(args) -> int:
     """Check every file; exit 1 when any has an error."""
+    from ..compile import WorldCache, check_file
+
     missing = [f for f in args.files if not Path(f).is_file()]
     if missing:
         for name in missing:
-            print(f"robocop-mission check: error: no such file: {name}", file=sys.stderr)
+            problem = "not a regular file" if Path(name).exists() else "no such file"
+            print(f"robocop-mission check: error: {problem}: {name}", file=sys.stderr)
         return 2
     cache = WorldCache()
     reports = []

@@ -8,8 +8,6 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..compile import check_file, to_dot, to_mermaid
-
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
@@ -23,6 +21,8 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    from ..compile import check_file, to_dot, to_mermaid
+
     if not Path(args.file).is_file():
         print(f"robocop-mission graph: error: no such file: {args.file}", file=sys.stderr)
         return 2

@@ -1,29 +1,34 @@
-"""``robocop-mission plot LOG``: PNG figures of a logged run, one band per state."""
+"""``robocop-mission plot LOG``: PNG or SVG figures of a logged run: one panel per joint
+group or per error dimension, the states in a strip with one row per machine."""
 
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "plot", help="plot a run logged with 'run --log DIR'",
-        description="Write joint positions, velocity commands and task errors as PNG "
-                    "figures with a coloured band per state.")
+        description="Write joint positions, velocity commands (one panel per joint "
+                    "group) and task errors (one panel per unit) as PNG or SVG figures, "
+                    "under a strip of the states with one row per machine.")
     parser.add_argument("log", help="the folder given to 'run --log'")
     parser.add_argument("--output", "-o", help="folder for the figures (default: LOG)")
+    parser.add_argument("--format", choices=("png", "svg"), default="png",
+                        help="image format (default png)")
     parser.set_defaults(command=run)
 
 
 def run(args) -> int:
-    from ..runtime.log import TIMESERIES
+    from ..runtime.log import TIMESERIES, timeseries_schema
     from ..runtime.plot import plot_run
 
-    if not (Path(args.log) / TIMESERIES).is_file():
+    try:
+        timeseries_schema(args.log)
+    except FileNotFoundError:
         print(f"{args.log}: no {TIMESERIES} here; write one with "
               f"'robocop-mission run MISSION --log {args.log}'", file=sys.stderr)
         return 1
-    for path in plot_run(args.log, args.output):
+    for path in plot_run(args.log, args.output, args.format):
         print(path)
     return 0

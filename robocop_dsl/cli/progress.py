@@ -50,6 +50,9 @@ class ProgressDisplay(Observer):
             text = (f"{event.time:8.3f} s  {event.data['from']} -> {event.data['to']}"
                     f"  ({event.data['condition']})")
             self.console.print(text, highlight=False)
+        elif event.kind == "event":
+            self.console.print(f"{event.time:8.3f} s  event: {event.data['name']}",
+                               highlight=False)
         elif event.kind in ("fault", "qp_failure", "overrun", "log"):
             if event.kind == "qp_failure" and event.data.get("repeat"):
                 return
@@ -62,8 +65,10 @@ class ProgressDisplay(Observer):
             self._status = None
 
 
-def print_summary(result, stream) -> None:
-    """Outcome, final state, transitions with times and conditions, cycle timings."""
+def print_summary(result, stream, explained=None) -> None:
+    """Outcome, final state, transitions with times and conditions, cycle timings, and
+    ``explained`` (a :class:`~robocop_dsl.runtime.summary.RunSummary`): the enabled
+    tasks' final errors and, for a run that did not succeed, why."""
     console = Console(file=stream, highlight=False,
                       width=None if stream.isatty() else 120)
     colour = {"success": "green", "failure": "red", "fault": "red"}.get(result.outcome, "yellow")
@@ -83,3 +88,37 @@ def print_summary(result, stream) -> None:
         console.print(f"cycles: {result.cycles}  cycle time median {np.median(times):.3f} ms"
                       f"  p99 {np.percentile(times, 99):.3f} ms  max {times.max():.3f} ms"
                       f"  QP failures: {result.qp_failures}  overruns: {result.overruns}")
+    if explained is not None:
+        print_explanation(explained, console)
+
+
+def print_explanation(summary, console: Console) -> None:
+    """The tasks table, then the clauses that fired or were waiting, each elementary
+    condition with what it measured."""
+    table = Table(title="tasks at the end", show_edge=False)
+    for column in ("task", "type", "body or group", "error", "reached"):
+        table.add_column(column)
+    for task in summary.tasks:
+        table.add_row(task.name, task.kind, task.target, task.error_text(),
+                      "[green]yes[/]" if task.reached else "[red]no[/]")
+    if summary.tasks:
+        console.print(table)
+    else:
+        console.print("tasks at the end: none enabled")
+    for firing in summary.fired:
+        console.print(f"fired at {firing.time:.3f} s: {firing.source} -> {firing.target}"
+                      f"  ({firing.condition})")
+        _print_clauses(console, firing.others, f"the other clauses of {firing.source}")
+    if summary.pending:
+        _print_clauses(console, summary.pending, "waiting at the end")
+
+
+def _print_clauses(console: Console, clauses, title: str) -> None:
+    if not clauses:
+        return
+    console.print(f"  {title}:")
+    for clause in clauses:
+        console.print(f"    {clause.state}: when {clause.text} -> {clause.target}")
+        for atom in clause.atoms:
+            mark = "[green]holds[/]" if atom.holds else "[yellow]does not hold[/]"
+            console.print(f"      {atom}  {mark}")

@@ -3,16 +3,20 @@ optionally shown in Meshcat (``--viewer``) and recorded as an HTML replay (``--r
 
 Exit codes: 0 success outcome, 1 failure outcome (or ``--duration`` reached first),
 2 invalid mission (or viewer options), 3 run-time fault (or no Meshcat server),
-130 interrupted.
+130 interrupted (SIGINT, Ctrl-C), 143 terminated (SIGTERM). A signal, even during
+start-up, ends the run the way a final state does: the robot decelerates and holds,
+the log is complete; a second signal changes nothing.
 """
 
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 import threading
 
 from ..diagnostics import DiagnosticError, render_all
+from .events import scheduled_event
 
 EXIT_CODES = {"success": 0, "failure": 1, "stopped": 1, "fault": 3, "interrupted": 130}
 VIEWER_SYNC = 5.0   # [s] at most to show the last cycle before waiting or exiting
@@ -49,11 +53,25 @@ def add_parser(subparsers) -> None:
                              "settings and sampled conditions (with --job)")
     parser.add_argument("--job", type=int, metavar="N",
                         help="the job to run: the 'job' column of the sweep's results table")
+    parser.add_argument("--debug", action="store_true",
+                        help="print the Python traceback of a run-time fault")
+    parser.add_argument("--event", action="append", default=[], metavar="NAME@TIME",
+                        type=scheduled_event,
+                        help="raise event NAME at mission time TIME (seconds, or with ms "
+                             "or s: go@2.5, go@500ms); repeatable")
     parser.set_defaults(command=run)
 
 
 def run(args) -> int:
+    with StopSignals() as signals:
+        return _run(args, signals)
+
+
+def _run(args, signals) -> int:
     from ..runtime import RunLogger
+    from ..runtime.summary import SummaryWatch
+    from .event_schedule import EventSchedule
+    from .events import unknown_events
     from .progress import ProgressDisplay, print_summary
 
     if (args.campaign is None) != (args.job is None):
@@ -67,6 +85,14 @@ def run(args) -> int:
     except DiagnosticError as error:
         print(render_all(error.diagnostics), file=sys.stderr)
         return 2
+    unknown = unknown_events(args.event, mission.spec.events)
+    if unknown:
+        print("\n".join(f"robocop-mission run: error: {m}" for m in unknown), file=sys.stderr)
+        return 2
+    if args.event:
+        runner.add_observer(EventSchedule(args.event))
+    watch = SummaryWatch(mission.spec)
+    runner.add_observer(watch)
     if args.log:
         runner.add_observer(RunLogger(args.log, runner.joint_names))
     viewer = recorder = None
@@ -83,9 +109,12 @@ def run(args) -> int:
                 runner.add_observer(observer)
     display = ProgressDisplay(mission.name)
     runner.add_observer(display)
+    signals.attach(runner)
     result = runner.run(duration=duration, realtime=args.realtime or runner.driver.realtime)
     display.close()
-    print_summary(result, sys.stdout)
+    print_summary(result, sys.stdout, watch.summary)
+    if args.debug and runner.error is not None:
+        print(runner.fault_traceback(), file=sys.stderr, end="")
     if args.log:
         print(f"log: {args.log}")
     if recorder is not None:
@@ -93,9 +122,59 @@ def run(args) -> int:
             print(f"warning: {problem}", file=sys.stderr)
         if not recorder.problems:
             print(f"replay: {recorder.path}")
+    signals.release()
     if viewer is not None:
         _keep_viewer(viewer, wait=not args.no_wait)
+    if result.outcome == "interrupted" and signals.received is not None:
+        return 128 + signals.received
     return EXIT_CODES[result.outcome]
+
+
+class StopSignals:
+    """While entered, SIGINT and SIGTERM stop the run instead of raising: one received
+    before the runner exists stops it as soon as it is attached. The previous handlers
+    come back on exit.
+
+    Attributes:
+        received: The first signal's number, or ``None``.
+    """
+
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+    def __init__(self):
+        self.received: int | None = None
+        self._runner = None
+        self._previous: dict = {}
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            for number in self.SIGNALS:
+                self._previous[number] = signal.signal(number, self._handle)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.release()
+
+    def release(self) -> None:
+        """Give the signals their previous handlers back (again: nothing)."""
+        for number, handler in self._previous.items():
+            signal.signal(number, handler)
+        self._previous = {}
+
+    def attach(self, runner) -> None:
+        """Stop ``runner`` on a signal (at once if one came already)."""
+        self._runner = runner
+        self._stop()
+
+    def _handle(self, number: int, frame) -> None:
+        if self.received is None:
+            self.received = number
+            self._stop()
+
+    def _stop(self) -> None:
+        if self._runner is not None and self.received is not None:
+            name = signal.Signals(self.received).name
+            self._runner.stop(f"interrupted by {name}")
 
 
 def _viewers(args, world, watched: bool) -> tuple:

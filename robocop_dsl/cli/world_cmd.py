@@ -6,9 +6,12 @@ import json
 import math
 import sys
 
+from typing import TYPE_CHECKING
+
 from ..diagnostics import DiagnosticError, render_all
-from ..world import World, load_world
-from ..world.placement import rpy_of
+
+if TYPE_CHECKING:
+    from ..world import World
 
 
 def add_parser(subparsers) -> None:
@@ -23,6 +26,8 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     """Exit 0 when the world loads, 1 when it has errors."""
+    from ..world import load_world
+
     try:
         world = load_world(args.file)
     except DiagnosticError as error:
@@ -41,6 +46,8 @@ def _finite(values) -> list:
 
 def placements(world: World) -> dict:
     """Each body's world ``(position [m], rpy [rad])`` at the initial configuration."""
+    from ..world.placement import rpy_of
+
     poses = world.body_placements(world.initial_configuration())
     return {name: ([float(v) + 0.0 for v in pose.translation],
                    [v + 0.0 for v in rpy_of(pose.rotation)])
@@ -66,7 +73,20 @@ def describe(world: World) -> dict:
                          for g in world.group_names()],
         "processors": [{"name": p.name, "type": p.type, "options": p.options,
                         "driver": p.driver} for p in world.processors.values()],
+        "collisions": collisions(world),
     }
+
+
+def collisions(world: World) -> dict:
+    """The collision bodies with their shapes, and the pairs of bodies a collision check
+    may cover (adjacent, allowed and rigidly joined pairs left out)."""
+    from ..world.collisions import collision_geometry, describe_shape, world_pairs
+
+    geometry = collision_geometry(world)
+    return {"bodies": [{"name": body, "shapes": [describe_shape(s) for s in shapes]}
+                       for body, shapes in geometry.by_body.items()],
+            "checked_pairs": [list(pair) for pair in world_pairs(world)],
+            "allowed": sorted(sorted(pair) for pair in world.allowed_collisions)}
 
 
 def _limits(joint) -> str:
@@ -121,4 +141,17 @@ def render_text(world: World) -> str:
         options = ", ".join(f"{k}: {v}" for k, v in processor.options.items())
         driver = f" (driver: {processor.driver})" if processor.driver else ""
         lines.append(f"  {processor.name}: {processor.type} {{{options}}}{driver}")
+    lines += _collision_lines(collisions(world))
     return "\n".join(lines)
+
+
+def _collision_lines(found: dict) -> list:
+    lines = ["", f"collision bodies ({len(found['bodies'])}):"]
+    lines += [f"  {body['name']}: {', '.join(body['shapes'])}" for body in found["bodies"]]
+    partners: dict = {}
+    for first, second in found["checked_pairs"]:
+        partners.setdefault(first, []).append(second)
+    lines += ["", f"checked pairs ({len(found['checked_pairs'])}; adjacent bodies, bodies "
+              f"that no joint moves apart and {len(found['allowed'])} allowed pairs left out):"]
+    lines += [f"  {body}: {', '.join(others)}" for body, others in partners.items()]
+    return lines

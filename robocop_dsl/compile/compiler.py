@@ -15,13 +15,13 @@ from ..check.controllers import controller_of, mission_controllers
 from ..check.values import to_si, vector_to_si
 from ..diagnostics import SourceFile
 from ..lang import ast
-from ..lang.catalogue import (BODY, CONSTRAINTS, FEEDBACKS, INTEGER, INTERPOLATORS,
-                              JOINT_GROUP, PER_DOF, SCALAR, TASKS, Kind, Registry)
+from ..lang.catalogue import (BODY, COLLISION_SETS, CONSTRAINTS, FEEDBACKS, INTEGER,
+                              INTERPOLATORS, JOINT_GROUP, NORM_OR_AXES, PER_AXIS, PER_DOF,
+                              SCALAR, SPACE_AXES, SWITCH, TASKS, Kind, Registry)
 from ..lang.formatter import format_condition
 from . import spec
 from .state_graph import join, machine_start, region_machine
-
-_SPACE_DOFS = {"position": 3, "orientation": 3, "pose": 6, "twist": 6, "gaze": 2}
+from .tolerance import tolerance_spec
 
 
 def compile_mission(mission: ast.Mission, source: SourceFile, world, world_path: Path,
@@ -61,9 +61,10 @@ def _subject(decl, names: WorldNames, registry: Registry):
 def _task(decl: ast.TaskDecl, names: WorldNames, controller: str) -> spec.TaskSpec:
     kind, subject, joints = _subject(decl, names, TASKS)
     given = _parameters(decl)
-    dofs = joints.dofs if joints else _SPACE_DOFS[kind.space]
+    dofs = joints.dofs if joints else SPACE_AXES[kind.space]
     per_dof = dofs if joints else 1
     gain = given.get("gain")
+    enabled = given.get("enabled")
     return spec.TaskSpec(
         name=decl.name.text, type=kind.name,
         joint_group=subject if joints else None, body=None if joints else subject,
@@ -76,8 +77,10 @@ def _task(decl: ast.TaskDecl, names: WorldNames, controller: str) -> spec.TaskSp
                                           per_dof)),
         priority=int(given["priority"].value) if "priority" in given else 0,
         weight=to_si(given["weight"]) if "weight" in given else 1.0,
-        gain=to_si(gain) if gain is not None else None,
-        dofs=dofs, span=decl.span, controller=controller)
+        gain=convert(gain, PER_AXIS, dofs) if gain is not None else None,
+        dofs=dofs, span=decl.span, controller=controller,
+        tolerance=tolerance_spec(given.get("tolerance"), kind.space, joints),
+        enabled=convert(enabled, SWITCH, dofs) if enabled is not None else False)
 
 
 def _constraint(decl: ast.ConstraintDecl, names: WorldNames,
@@ -86,7 +89,10 @@ def _constraint(decl: ast.ConstraintDecl, names: WorldNames,
     given = _parameters(decl)
     dofs = joints.dofs if joints else 1
     values: dict[str, object] = {}
+    enabled = given.get("enabled")
     for parameter in kind.parameters:
+        if parameter.kind == SWITCH:
+            continue
         if parameter.name in given:
             values[parameter.name] = convert(given[parameter.name], parameter.kind, dofs)
         else:
@@ -97,18 +103,27 @@ def _constraint(decl: ast.ConstraintDecl, names: WorldNames,
         for name, default in defaults.items():
             if name in values and values[name] is None:
                 values[name] = default
+    if kind.subject == COLLISION_SETS:
+        values["other"] = decl.arguments[1].text
     return spec.ConstraintSpec(decl.name.text, kind.name, subject if joints else None,
-                               None if joints else subject, values, decl.span, controller)
+                               None if joints else subject, values, decl.span, controller,
+                               convert(enabled, SWITCH, dofs) if enabled is not None else True)
 
 
 def convert(value: ast.Value, kind: str, dofs: int):
-    """A parameter value in SI: float, tuple (per dof), int or a body name."""
+    """A parameter value in SI: float, tuple (per dof; per axis for ``PER_AXIS`` and
+    ``NORM_OR_AXES`` vectors, whose single number stays a float), int, bool or a body
+    name."""
     if kind == SCALAR:
         return to_si(value)
     if kind == PER_DOF:
         if isinstance(value, ast.Quantity):
             return (to_si(value),) * dofs
         return vector_to_si(value)
+    if kind in (PER_AXIS, NORM_OR_AXES):
+        return to_si(value) if isinstance(value, ast.Quantity) else vector_to_si(value)
+    if kind == SWITCH:
+        return value.name.text == "true"
     if kind == INTEGER:
         return int(value.value)
     if kind == BODY:
@@ -224,7 +239,7 @@ class _Converter:
         registry = TASKS if owner in self.tasks else CONSTRAINTS
         kind, _, joints = _subject(decl, self.names, registry)
         if action.field.text == "target":
-            dofs = joints.dofs if joints else _SPACE_DOFS[kind.space]
+            dofs = joints.dofs if joints else SPACE_AXES[kind.space]
             return spec.SetTargetAction(owner, target_spec(action.value, kind, dofs),
                                         action.span)
         parameter = kind.parameter(action.field.text)
@@ -248,6 +263,8 @@ class _Converter:
         if condition.owner.text == "controller":
             return spec.ControllerFailedCondition()
         state = state_in_scope(scope, condition)
+        if state is None and condition.field.text == "interpolated":
+            return spec.InterpolatedCondition(condition.owner.text)
         if state is None:
             return spec.ReachedCondition(condition.owner.text)
         if condition.field.text == "done":
@@ -260,6 +277,8 @@ class _Converter:
             return spec.ElapsedMeasure()
         if isinstance(measure, ast.Time):
             return spec.TimeMeasure()
+        if isinstance(measure, ast.Clearance):
+            return spec.ClearanceMeasure(measure.first.text, measure.second.text)
         if isinstance(measure, ast.Distance):
             return spec.DistanceMeasure(measure.first.text, measure.second.text)
         state = state_in_scope(scope, measure)

@@ -11,6 +11,7 @@ import networkx as nx
 from ..check import check_graph, check_mission
 from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, sort_key, unique
 from ..lang import ast, parse_mission
+from ..sources import MISSION, WORLD, UnreadableSource, read_source, refusal
 from ..world import World, load_world, resolve_world_path
 from .compiler import compile_mission
 from .spec import MissionSpec
@@ -48,11 +49,16 @@ class WorldCache:
         self._worlds: dict[Path, tuple[World | None, tuple[Diagnostic, ...]]] = {}
 
     def load(self, path: Path) -> tuple[World | None, tuple[Diagnostic, ...]]:
+        """The world at ``path`` or ``None``, and the diagnostics of loading it; a
+        system error (a name too long for the file system) is a diagnostic at 1:1."""
         if path not in self._worlds:
             try:
                 self._worlds[path] = (load_world(path), ())
             except DiagnosticError as error:
                 self._worlds[path] = (None, tuple(error.diagnostics))
+            except OSError as error:
+                self._worlds[path] = (None, (UnreadableSource(
+                    str(path), error.strerror or str(error)).diagnostics[0],))
         return self._worlds[path]
 
 
@@ -62,12 +68,22 @@ def _world_of(mission: ast.Mission, source: SourceFile, cache: WorldCache):
     if declared is None:
         return None, None, []
     folder = Path(source.path).parent if source.path != "<stdin>" else Path.cwd()
-    path = resolve_world_path(declared.path.text, relative_to=folder.resolve())
+    try:
+        path = resolve_world_path(declared.path.text, relative_to=folder.resolve())
+    except (OSError, ValueError) as error:
+        return None, None, [source.error(
+            "unreadable-file", f"cannot read world file '{declared.path.text}': "
+            f"{getattr(error, 'strerror', None) or error}", declared.path.span)]
     if path is None:
         return None, None, [source.error(
             "world-not-found", f"world file '{declared.path.text}' not found",
             declared.path.span, "looked beside the mission, in the package's robots/ and "
             "in ROBOCOP_PATH folders")]
+    refused = refusal(path, WORLD)
+    if refused is not None:
+        return None, None, [source.error(
+            "unreadable-file", f"cannot read world file '{declared.path.text}': {refused}",
+            declared.path.span, "a mission names a world file (.yaml or .yml)")]
     world, problems = cache.load(path)
     if world is None:
         return path, None, [source.error(
@@ -109,13 +125,10 @@ def check_file(path: str | Path, *, world: World | None = None,
     """Read a mission file and :func:`check_source` it. An unreadable file is a
     diagnostic too."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        source = SourceFile(str(path), "")
-        problem = source.error("unreadable-file", f"cannot read the file: "
-                               f"{getattr(error, 'strerror', None) or error}", None)
-        return CheckResult(source, (problem,), ast.Mission(), nx.DiGraph(start=None, guards=(), machines={}),
-                           None, None)
+        text = read_source(path, MISSION).text
+    except UnreadableSource as error:
+        return CheckResult(SourceFile(str(path), ""), tuple(error.diagnostics), ast.Mission(),
+                           nx.DiGraph(start=None, guards=(), machines={}), None, None)
     return check_source(text, path, world=world, cache=cache)
 
 

@@ -77,9 +77,12 @@ TargetSpec = Union[VectorTarget, BodyTarget, PoseTarget, CurrentTarget]
 class TaskSpec:
     """A task: ``type`` from the catalogue (``joint_position``, ``body_pose``...) on a
     ``joint_group`` (joint tasks) or a ``body`` (body tasks), with its ``reference`` body
-    (body tasks; ``"world"`` by default). ``gain`` (``None``: the feedback's) and
-    ``weight`` can change while running; ``priority`` 0 is the highest level.
-    ``controller`` is the qp_controller processor that runs it."""
+    (body tasks; ``"world"`` by default). ``gain`` [1/s] (a float, a tuple of one per
+    dof / per axis, or ``None``: the feedback's) and ``weight`` can change while
+    running; ``priority`` 0 is the highest level. ``controller`` is the qp_controller
+    processor that runs it. ``tolerance`` tells when it counts as reached [SI]: one per
+    dof for joint tasks, one per part for body tasks (position then orientation, linear
+    then angular); ``enabled`` whether it is active from the start."""
 
     name: str
     type: str
@@ -91,21 +94,24 @@ class TaskSpec:
     feedback: FeedbackSpec
     priority: int
     weight: float
-    gain: float | None
+    gain: float | tuple[float, ...] | None
     dofs: int
     span: Span = field(compare=False)
     controller: str | None = None
+    tolerance: tuple[float, ...] = ()
+    enabled: bool = False
 
 
 @dataclass(frozen=True)
 class ConstraintSpec:
-    """A constraint, enabled from the start.
+    """A constraint, enabled from the start unless ``enabled`` is false.
 
     ``joint_kinematic`` on ``joint_group``: ``min_position``/``max_position`` (tuples,
     URDF limits by default), ``max_velocity`` (tuple, URDF by default),
     ``max_acceleration`` (tuple or ``None``: not limited). ``body_velocity`` on ``body``:
-    ``reference`` (str), ``max_linear`` [m/s] and ``max_angular`` [rad/s] (``None``:
-    not limited). ``controller`` is the qp_controller processor that runs it.
+    ``reference`` (str), ``max_linear`` [m/s] and ``max_angular`` [rad/s] (a float
+    bounds the norm, a 3-tuple each axis; ``None``: not limited). ``controller`` is the
+    qp_controller processor that runs it.
     """
 
     name: str
@@ -115,6 +121,7 @@ class ConstraintSpec:
     parameters: dict[str, object]
     span: Span = field(compare=False)
     controller: str | None = None
+    enabled: bool = True
 
 
 # ---- actions ---------------------------------------------------------------------------
@@ -149,7 +156,7 @@ class SetTargetAction:
 @dataclass(frozen=True)
 class SetParameterAction:
     """Set ``gain``/``weight`` of a task or a limit of a constraint (SI; per-dof limits
-    as tuples)."""
+    and per-dof / per-axis gains as tuples)."""
 
     owner: str
     parameter: str
@@ -192,7 +199,14 @@ ActionSpec = Union[EnableAction, DisableAction, ResetAction, SetTargetAction,
 
 @dataclass(frozen=True)
 class ReachedCondition:
-    """The task's interpolator has finished."""
+    """The task's interpolator has finished and its error is within its tolerance."""
+
+    task: str
+
+
+@dataclass(frozen=True)
+class InterpolatedCondition:
+    """The task's interpolator has finished, whatever its error."""
 
     task: str
 
@@ -238,7 +252,16 @@ class DistanceMeasure:
     second: str
 
 
-MeasureSpec = Union[TaskMeasure, ElapsedMeasure, TimeMeasure, DistanceMeasure, VisitsMeasure]
+@dataclass(frozen=True)
+class ClearanceMeasure:
+    """Distance between the collision geometries of two sets (bodies or joint groups) [m]."""
+
+    first: str
+    second: str
+
+
+MeasureSpec = Union[TaskMeasure, ElapsedMeasure, TimeMeasure, DistanceMeasure,
+                    ClearanceMeasure, VisitsMeasure]
 
 
 @dataclass(frozen=True)
@@ -294,9 +317,9 @@ class AnyCondition:
     operands: tuple["ConditionSpec", ...]
 
 
-ConditionSpec = Union[ReachedCondition, ControllerFailedCondition, CompareCondition,
-                      EventCondition, FinalCondition, DoneCondition, NotCondition,
-                      AllCondition, AnyCondition]
+ConditionSpec = Union[ReachedCondition, InterpolatedCondition, ControllerFailedCondition,
+                      CompareCondition, EventCondition, FinalCondition, DoneCondition,
+                      NotCondition, AllCondition, AnyCondition]
 
 
 # ---- states, machines and the mission --------------------------------------------------

@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .constraints import CONSTRAINTS, Constraint
-from .exceptions import DuplicateName, InvalidParameter, UnknownKind, UnknownName
+from .exceptions import (DuplicateName, InvalidParameter, PartFailed, UnknownKind,
+                         UnknownName)
 from .hierarchy import Hierarchy, Objective
 from .kinematics import Kinematics
 from .parameters import scalar_parameter
@@ -17,6 +18,7 @@ from .results import ControlResult, Timings
 from .solvers import QuadraticProgram, make_solver
 from .state import ControlState, resolve_group
 from .tasks import TASKS, Task
+from ..world.processors import option_default
 
 HIERARCHIES = ("strict", "weighted")
 
@@ -38,7 +40,9 @@ class Controller:
     enabled tasks under the enabled constraints.
 
     The runtime owns the state: each cycle it passes the whole model's configuration
-    to :meth:`compute` and integrates or sends the returned command.
+    to :meth:`compute` and integrates or sends the returned command. The URDF's
+    velocity limits bound every command, with or without a ``joint_kinematic``
+    constraint.
 
     Args:
         world: The world (its ``model``, bodies and joint groups).
@@ -48,6 +52,10 @@ class Controller:
         hierarchy: ``"strict"`` (one QP per priority level, see
             :mod:`robocop_dsl.control.hierarchy`) or ``"weighted"`` (one QP, weights).
         damping: Weight of ``|dq|^2`` in every QP [-], keeps them strictly convex.
+        lm_damping: Levenberg-Marquardt damping [per task unit^2]: each level also
+            weighs ``|dq|^2`` by this times its position tasks' weighted squared
+            tracking errors, which ends the chatter toward targets out of reach (see
+            :mod:`robocop_dsl.control.hierarchy`).
         kinematics: A :class:`Kinematics` to share with the runtime; default a new one.
 
     Raises:
@@ -57,7 +65,9 @@ class Controller:
     """
 
     def __init__(self, world, joint_group: str, time_step: float, solver: str = "proxqp",
-                 hierarchy: str = "strict", *, damping: float = 1e-6,
+                 hierarchy: str = "strict", *,
+                 damping: float = option_default("qp_controller", "damping"),
+                 lm_damping: float = option_default("qp_controller", "lm_damping"),
                  kinematics: Kinematics | None = None):
         if hierarchy not in HIERARCHIES:
             raise InvalidParameter("controller", "hierarchy", hierarchy,
@@ -66,6 +76,8 @@ class Controller:
                                           strict=True)
         self.damping = scalar_parameter("controller", "damping", damping, minimum=0.0,
                                         strict=True)
+        self.lm_damping = scalar_parameter("controller", "lm_damping", lm_damping,
+                                           minimum=0.0)
         self.hierarchy = hierarchy
         self.solver = solver
         make_solver(solver)
@@ -73,6 +85,7 @@ class Controller:
         self.kinematics = kinematics if kinematics is not None else Kinematics(world)
         group = resolve_group(world, joint_group)
         self.state = ControlState(self.kinematics, group, self.time_step)
+        self._urdf_velocity = np.array(group.max_velocity, dtype=float)
         self._tasks: dict[str, Task] = {}
         self._constraints: dict[str, Constraint] = {}
         self._auto_enable: bool | None = None
@@ -223,15 +236,19 @@ class Controller:
         jacobian, velocity, weight = hierarchy.jacobian, hierarchy.velocity, hierarchy.weight
         after_kinematics = time.perf_counter()
         objectives = []
-        for task, rows in plan.tasks:
+        squared_errors = hierarchy.squared_errors
+        for index, (task, rows) in enumerate(plan.tasks):
             if not task.target_is_finite():
                 reason = _unbounded_reference(plan.tasks, objectives)
                 return self._refuse(reason or f"target of {task.label} is not finite", start)
-            task_jacobian, task_velocity = task.compute_objective(state)
+            task_jacobian, task_velocity = _part("task", task, task.compute_objective, state)
             task_weight = task.weight
             jacobian[rows] = task_jacobian
             velocity[rows] = task_velocity
             weight[rows] = task_weight
+            if task.order == 0:
+                error = task.tracking_error
+                squared_errors[index] = error.dot(error * task_weight)
             objectives.append(Objective(task.name, task_jacobian, task_velocity, task_weight))
         if not math.isfinite(velocity.dot(velocity)):  # one check for every task
             reason = _unbounded_reference(plan.tasks, objectives)
@@ -289,7 +306,8 @@ class Controller:
                 count += constraint.rows
         hierarchy = Hierarchy(levels, [task.name for task in tasks],
                               [task.dimension for task in tasks], self.state.dofs, count,
-                              [make_solver(self.solver) for _ in levels], self.damping)
+                              [make_solver(self.solver) for _ in levels], self.damping,
+                              self.lm_damping)
         plan = _Plan(self.state.revision,
                      [(task, hierarchy.task_rows(index)) for index, task in enumerate(tasks)],
                      hierarchy, first, [c for c in boxes if c is not first], rows)
@@ -303,20 +321,23 @@ class Controller:
         state = self.state
         hierarchy = plan.hierarchy
         lower, upper = hierarchy.lower, hierarchy.upper
+        np.negative(self._urdf_velocity, out=lower)
+        upper[:] = self._urdf_velocity
         if plan.full_box is not None:
-            lower[:], upper[:] = plan.full_box.compute_bounds(state)
-        elif plan.boxes:
-            lower.fill(-np.inf)
-            upper.fill(np.inf)
+            low, high = _part("constraint", plan.full_box, plan.full_box.compute_bounds, state)
+            np.maximum(lower, low, out=lower)
+            np.minimum(upper, high, out=upper)
         for constraint in plan.boxes:
-            low, high = constraint.compute_bounds(state)
+            low, high = _part("constraint", constraint, constraint.compute_bounds, state)
             columns = constraint.box_columns
             lower[columns] = np.maximum(lower[columns], low)
             upper[columns] = np.minimum(upper[columns], high)
         for constraint, rows in plan.rows:
-            hierarchy.l[rows], hierarchy.u[rows] = constraint.compute_bounds(state)
-            hierarchy.C[rows] = constraint.compute_jacobian(state)
-        if plan.boxes and np.count_nonzero(np.greater(lower, upper)):
+            hierarchy.l[rows], hierarchy.u[rows] = _part(
+                "constraint", constraint, constraint.compute_bounds, state)
+            hierarchy.C[rows] = _part("constraint", constraint,
+                                      constraint.compute_jacobian, state)
+        if np.count_nonzero(np.greater(lower, upper)):
             return False
         return not (plan.rows and np.count_nonzero(np.greater(hierarchy.l, hierarchy.u)))
 
@@ -348,3 +369,12 @@ def _unbounded_reference(tasks: list[tuple[Task, slice]], objectives: list[Objec
         if not math.isfinite(objective.velocity.dot(objective.velocity)):
             return f"reference of {task.label} is not finite"
     return None
+
+
+def _part(role: str, part, method, state):
+    """``method(state)`` of ``part``, a ``role`` (task or constraint); whatever it
+    raises comes out as :class:`PartFailed` naming the part."""
+    try:
+        return method(state)
+    except Exception as error:  # named for whoever reports it
+        raise PartFailed(f"{role} '{part.name}'", error) from error

@@ -112,3 +112,14 @@ class JointGroupOutsideController(ControlError):
         self.controlled = controlled
         super().__init__(f"joint group '{group}' has joints outside the controlled group "
                          f"'{controlled}': {', '.join(self.joints)}")
+
+
+class PartFailed(ControlError):
+    """A task or constraint raised while the controller computed its part of the QP;
+    ``owner`` names it (``task 'arms'``), the cause is chained."""
+
+    def __init__(self, owner: str, error: BaseException):
+        self.owner = owner
+        cause = str(error) if isinstance(error, RobocopError) else (
+            f"{type(error).__name__}: {error}" if str(error) else type(error).__name__)
+        super().__init__(f"{owner}: {cause}")

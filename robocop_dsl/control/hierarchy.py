@@ -1,12 +1,20 @@
 """Priority handling: one weighted QP, or one QP per level (strict hierarchy).
 
 Strict hierarchy: levels are solved from the highest priority (0) down. Level ``k``
-minimises its tasks' weighted residual plus a small damping, subject to the enabled
+minimises its tasks' weighted residual plus a damping, subject to the enabled
 constraints and to equality constraints ``J_j dq = J_j dq*`` on the task velocities
 ``J_j dq*`` achieved by every task ``j`` of the levels above (``dq*`` the solution
 of level ``k - 1``). A lower level can therefore only use the freedom left by the
 levels above and never changes their achieved task velocities. If a lower level has
 no solution, the command of the level above is kept.
+
+The damping of a level is ``(damping + lm_damping * sum w |e|^2) |dq|^2``: a constant
+that keeps the QP strictly convex, and a Levenberg-Marquardt term that grows with the
+weighted squared tracking errors ``e`` of the level's position-like tasks (from where
+they are to their references; Pink's and mink's ``lm_damping``; velocity tasks do not
+count). On a trajectory and near a target it vanishes; toward a target out of reach,
+where the error stays, it damps the motion along the singular directions that would
+otherwise flip sign every cycle.
 
 The QPs are assembled in place: a :class:`Hierarchy` owns, for one set of enabled
 tasks and constraints, the stacked task rows (level by level, so the equality rows
@@ -70,11 +78,13 @@ class Hierarchy:
         constraint_rows: Number of constraint rows ``l <= C dq <= u``.
         solvers: One solver per level.
         damping: Weight of ``|dq|^2`` added to the levels with tasks [-].
+        lm_damping: Weight of ``|dq|^2`` per unit of the level's weighted squared
+            tracking error ``sum w |e|^2`` [per task unit^2].
     """
 
     def __init__(self, levels: list[tuple[int, list[int]]], names: list[str],
                  dimensions: list[int], dofs: int, constraint_rows: int,
-                 solvers: list[QPSolver], damping: float):
+                 solvers: list[QPSolver], damping: float, lm_damping: float = 0.0):
         total = sum(dimensions)
         self.jacobian = np.zeros((total, dofs))
         self.velocity = np.zeros(total)
@@ -106,6 +116,10 @@ class Hierarchy:
                 self.weight[start:end, None], weighted_rows, weighted_rows.T, regularisation,
                 program, solver))
             start = end
+        self.squared_errors = np.zeros(len(dimensions))
+        """Each task's weighted squared tracking error ``w |e|^2``, by index, written by
+        the controller every cycle (0 for velocity tasks)."""
+        self._lm_damping = lm_damping
         self.problems = [level.program for level in self._levels]
         """The QP of each level, overwritten by every cycle."""
         self._not_run = [(False, "not run")] * len(self._levels)
@@ -118,7 +132,8 @@ class Hierarchy:
         """Solve the levels in order.
 
         A level with no task minimises ``|dq|^2`` alone (the smallest feasible
-        command); the others add ``damping |dq|^2`` to their tasks' residual.
+        command); the others add their damping (see the module) to their tasks'
+        residual.
         Solutions of backends that do not guarantee their tolerance are checked
         against the constraints (:data:`FEASIBILITY_TOLERANCE`).
 
@@ -139,6 +154,9 @@ class Hierarchy:
                 weighted.dot(level.jacobian, out=program.H)
                 np.add(program.H, level.regularisation, out=program.H)
                 weighted.dot(level.velocity, out=program.g)
+                if self._lm_damping:
+                    program.H.flat[::program.H.shape[0] + 1] += self._lm_damping * sum(
+                        self.squared_errors[index] for index in level.tasks)
                 np.negative(program.g, out=program.g)
             if command is not None:
                 program.A.dot(command, out=program.b)

@@ -144,6 +144,23 @@ class VectorChart:
         return velocity
 
 
+class JointChart(VectorChart):
+    """Joint positions where continuous joints wrap: a goal is read as the equivalent
+    angle nearest the anchor (the start), so interpolating goes the shortest way round.
+
+    Args:
+        space: The group's :class:`~robocop_dsl.world.joint_space.JointSpace`.
+        anchor: Positions [rad or m] the interpolation starts from.
+    """
+
+    def __init__(self, space, anchor: np.ndarray):
+        self.space = space
+        self.anchor = anchor
+
+    def to_vector(self, value: np.ndarray) -> np.ndarray:
+        return self.space.nearest(self.anchor, value)
+
+
 class RotationChart:
     """Rotations as ``R = anchor exp(r)``: interpolating ``r`` follows geodesics."""
 

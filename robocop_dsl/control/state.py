@@ -21,7 +21,8 @@ class ControlState:
     """What tasks and constraints read during a cycle.
 
     Jacobians returned here have one column per controlled joint (the controller's
-    group, in its order). ``velocity`` is the current joint-velocity estimate of the
+    group, in its order); so have ``group_positions``, the joints' positions as
+    angles (or lengths), one per dof, whatever the joint type. ``velocity`` is the current joint-velocity estimate of the
     group [rad/s or m/s]: the measured one when the runtime passes it, else the
     previous command.
 
@@ -46,6 +47,8 @@ class ControlState:
         """Bumped whenever the QP's structure may change (enabling, priorities...)."""
         self._jacobians: dict[tuple[int, int], np.ndarray] = {}
         self._stamp = -1
+        self._positions = np.zeros(self.dofs)
+        self._positions_stamp = -1
 
     @property
     def q(self) -> np.ndarray:
@@ -54,8 +57,13 @@ class ControlState:
 
     @property
     def group_positions(self) -> np.ndarray:
-        """Positions of the controlled joints [rad or m]."""
-        return self.kinematics.q[self.q_indices]
+        """Positions of the controlled joints [rad or m], one per dof (a continuous
+        joint's angle in (-pi, pi]); computed once per state, do not modify."""
+        kinematics = self.kinematics
+        if self._positions_stamp != kinematics.stamp:
+            self._positions = self.group.space.positions(kinematics.q[self.q_indices])
+            self._positions_stamp = kinematics.stamp
+        return self._positions
 
     def body(self, name: str) -> int:
         """Frame id of a body; raises :class:`UnknownName` listing the bodies."""

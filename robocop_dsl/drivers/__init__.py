@@ -7,7 +7,12 @@ world's controller thread and them.
 - :class:`LoopbackDriver`: a robot in another process (``python -m
   robocop_dsl.drivers.simulator``) reached over TCP on 127.0.0.1;
 - :func:`create_driver`: the driver a world's ``processors:`` describe.
+
+:class:`RobotSimulator` is imported on first use, so that ``python -m
+robocop_dsl.drivers.simulator`` runs the module once, as ``__main__`` only.
 """
+
+from __future__ import annotations
 
 from .base import ThreadedDriver
 from .buffers import AsyncWorldReader, AsyncWorldWriter, JointCommand, JointState
@@ -16,7 +21,6 @@ from .factory import DRIVER_OPTIONS, create_driver, driver_processor
 from .loopback import LoopbackDriver
 from .process import SimulatorProcess
 from .simulated import ThreadedSimulatedDriver
-from .simulator import RobotSimulator
 
 __all__ = [
     "AsyncWorldReader",
@@ -35,3 +39,11 @@ __all__ = [
     "create_driver",
     "driver_processor",
 ]
+
+
+def __getattr__(name: str):
+    if name == "RobotSimulator":
+        from .simulator import RobotSimulator
+
+        return RobotSimulator
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -9,6 +9,13 @@ import sys
 from .errors import DriverFault
 
 _READY = re.compile(r"listening on 127\.0\.0\.1:(\d+)")
+CAUSE_LINES = 5   # lines of the simulator's output quoted when it does not start
+
+
+def last_lines(text: str, count: int = CAUSE_LINES) -> str:
+    """The last ``count`` non-blank lines of ``text``, joined by newlines."""
+    lines = [line.rstrip() for line in text.splitlines() if line.strip()]
+    return "\n".join(lines[-count:])
 
 
 class SimulatorProcess:
@@ -52,18 +59,22 @@ class SimulatorProcess:
             The port it listens on.
 
         Raises:
-            DriverFault: The simulator exited before listening.
+            DriverFault: The simulator exited before listening; the message quotes the
+                last lines of its stderr (else of its stdout).
         """
         self.process = subprocess.Popen(self.args, stdout=subprocess.PIPE,
                                         stderr=subprocess.PIPE, text=True)
-        line = self.process.stdout.readline()
-        match = _READY.search(line)
-        if match is None:
-            self.process.wait()
-            error = self.process.stderr.read().strip() or line.strip()
-            raise DriverFault("robot simulator", f"did not start: {error}")
-        self.port = int(match.group(1))
-        return self.port
+        printed = []
+        for line in self.process.stdout:
+            match = _READY.search(line)
+            if match is not None:
+                self.port = int(match.group(1))
+                return self.port
+            printed.append(line)
+        status = self.process.wait()
+        cause = last_lines(self.process.stderr.read()) or last_lines("".join(printed))
+        raise DriverFault("robot simulator",
+                          f"did not start (exit code {status}): {cause or 'no output'}")
 
     def stop(self) -> None:
         """Terminate the simulator (SIGTERM, then SIGKILL after 5 s) and reap it."""

@@ -139,7 +139,13 @@ class Distance(Node):
     second: Name
 
 
-Measure = Union[Member, Elapsed, Time, Distance]
+@dataclass(frozen=True)
+class Clearance(Distance):
+    """``clearance(A, B)``: distance between the collision geometries of two sets (a
+    body, or a joint group for every body its joints move) [m]."""
+
+
+Measure = Union[Member, Elapsed, Time, Distance, Clearance]
 
 
 @dataclass(frozen=True)

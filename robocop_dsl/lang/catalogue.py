@@ -12,11 +12,12 @@ metres for a body's position, radians for its orientation).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
 
-from .units import (ANGULAR_ACCELERATION, ANGULAR_JERK, ANGULAR_VELOCITY, DIMENSIONLESS,
-                    LINEAR_VELOCITY, TIME)
+from .units import (ANGLE, ANGULAR_ACCELERATION, ANGULAR_JERK, ANGULAR_VELOCITY,
+                    DIMENSIONLESS, LENGTH, LINEAR_VELOCITY, TIME)
 
 POSITION = "position"
 VELOCITY = "velocity"
@@ -26,6 +27,10 @@ JERK = "jerk"
 # What a parameter's value is written as.
 SCALAR = "scalar"            # one number with a unit
 PER_DOF = "per_dof"          # one number (broadcast) or a vector of one per dof
+PER_AXIS = "per_axis"        # one number (broadcast) or a vector of the task's dimension
+NORM_OR_AXES = "norm_or_axes"  # one number (bounds the norm) or a 3-vector (each axis)
+TOLERANCE = "tolerance"      # when a task counts as reached (see TOLERANCES)
+SWITCH = "switch"            # true or false
 INTEGER = "integer"          # a non-negative whole number
 BODY = "body"                # a body name, or world
 INTERPOLATOR = "interpolator"
@@ -35,6 +40,7 @@ TARGET = "target"
 # What a task or constraint drives, named by its argument.
 JOINT_GROUP = "joint_group"
 BODY_SUBJECT = "body"
+COLLISION_SETS = "collision_sets"  # two arguments, each a body or a joint group
 
 # Spaces: what a task's target and error are made of.
 JOINT_SPACE = "joint"
@@ -44,6 +50,17 @@ ORIENTATION_SPACE = "orientation"
 POSE_SPACE = "pose"
 TWIST_SPACE = "twist"
 GAZE_SPACE = "gaze"
+
+SPACE_AXES = {POSITION_SPACE: 3, ORIENTATION_SPACE: 3, POSE_SPACE: 6, TWIST_SPACE: 6,
+              GAZE_SPACE: 2}
+"""Task coordinates (error and velocity axes) of each body space."""
+SWITCH_WORDS = ("true", "false")
+DEFAULT_TOLERANCE = {LENGTH: 1e-3, ANGLE: math.radians(1.0), LINEAR_VELOCITY: 1e-3,
+                     ANGULAR_VELOCITY: math.radians(1.0)}
+"""A body task's tolerance by the dimension of its part [SI]: 1 mm, 1 deg and their rates."""
+DEFAULT_JOINT_TOLERANCE = {ANGLE: math.radians(0.5), LENGTH: 1e-3}
+"""A joint task's tolerance per joint by the joint's dimension [SI], also per second for
+joint velocities: 0.5 deg for a rotation, 1 mm for a translation."""
 
 
 @dataclass(frozen=True)
@@ -155,8 +172,14 @@ def _task_parameters(body: bool) -> tuple[Parameter, ...]:
                   doc="0 is highest (strict hierarchy)"),
         Parameter("weight", SCALAR, default=1.0, settable=True, valid=NON_NEGATIVE,
                   doc="relative weight (weighted hierarchy)"),
-        Parameter("gain", SCALAR, settable=True, valid=NON_NEGATIVE,
-                  doc="proportional gain [1/s] replacing the feedback's own"),
+        Parameter("gain", PER_AXIS, settable=True, valid=NON_NEGATIVE,
+                  doc="proportional gain [1/s] replacing the feedback's own, one number or "
+                      "one per dof / per axis"),
+        Parameter("tolerance", TOLERANCE, POSITION, valid=POSITIVE,
+                  doc="when the task counts as reached; default 1 mm and 1 deg for body "
+                      "tasks, 0.5 deg (1 mm prismatic) per joint for joint tasks"),
+        Parameter("enabled", SWITCH, default=False,
+                  doc="true: the task is active from the start"),
     )
     if body:
         return (Parameter("reference", BODY, default="world",
@@ -187,16 +210,36 @@ CONSTRAINTS.register(Kind("joint_kinematic", (
               doc="default: the URDF's velocity limits"),
     Parameter("max_acceleration", PER_DOF, ACCELERATION, settable=True, valid=POSITIVE,
               doc="default: not limited"),
+    Parameter("enabled", SWITCH, default=True,
+              doc="false: the constraint is off until a state enables it"),
 ), JOINT_GROUP, JOINT_SPACE, "joint position, velocity and acceleration limits",
     ordered=(("min_position", "max_position"),)))
 
 CONSTRAINTS.register(Kind("body_velocity", (
     Parameter("reference", BODY, default="world", doc="frame the velocity is measured in"),
-    Parameter("max_linear", SCALAR, LINEAR_VELOCITY, settable=True, valid=NON_NEGATIVE,
-              doc="bound on the linear speed; default: not limited"),
-    Parameter("max_angular", SCALAR, ANGULAR_VELOCITY, settable=True, valid=NON_NEGATIVE,
-              doc="bound on the angular speed; default: not limited"),
+    Parameter("max_linear", NORM_OR_AXES, LINEAR_VELOCITY, settable=True,
+              valid=NON_NEGATIVE, doc="a number bounds the linear speed, a 3-vector each "
+                                      "axis of the reference; default: not limited"),
+    Parameter("max_angular", NORM_OR_AXES, ANGULAR_VELOCITY, settable=True,
+              valid=NON_NEGATIVE, doc="a number bounds the angular speed, a 3-vector each "
+                                      "axis of the reference; default: not limited"),
+    Parameter("enabled", SWITCH, default=True,
+              doc="false: the constraint is off until a state enables it"),
 ), BODY_SUBJECT, TWIST_SPACE, "bounds on a body's velocity"))
+
+CONSTRAINTS.register(Kind("collision_avoidance", (
+    Parameter("min_distance", SCALAR, LENGTH, default=0.01, settable=True,
+              valid=NON_NEGATIVE, doc="never closer than this; default 1 cm"),
+    Parameter("influence", SCALAR, LENGTH, default=0.1, settable=True, valid=POSITIVE,
+              doc="the constraint acts on the pairs closer than this, above min_distance; "
+                  "default 10 cm"),
+    Parameter("damping", SCALAR, DIMENSIONLESS, default=5.0, settable=True, valid=POSITIVE,
+              doc="[1/s] how fast the gap to min_distance may close: the approach speed "
+                  "is at most damping times the gap; default 5"),
+    Parameter("enabled", SWITCH, default=True,
+              doc="false: the constraint is off until a state enables it"),
+), COLLISION_SETS, doc="keep the collision geometry of two sets of bodies (a body, or a "
+                       "joint group for every body its joints move) apart"))
 
 ROTATION_SPACES = (ORIENTATION_SPACE, POSE_SPACE, TWIST_SPACE, GAZE_SPACE)
 
@@ -224,10 +267,23 @@ for _name in ("linear", "cubic", "quintic"):
 INTERPOLATORS.register(Kind("none", (), doc="the reference jumps to the target"))
 
 FEEDBACKS.register(Kind("proportional", (
-    Parameter("gain", SCALAR, default=1.0, valid=NON_NEGATIVE, doc="[1/s]"),),
+    Parameter("gain", PER_AXIS, default=1.0, valid=NON_NEGATIVE,
+              doc="[1/s], one number or one per dof / per axis"),),
     doc="velocity = gain * error"))
 FEEDBACKS.register(Kind("pid", (
-    Parameter("kp", SCALAR, default=1.0, valid=NON_NEGATIVE),
-    Parameter("ki", SCALAR, default=0.0, valid=NON_NEGATIVE),
-    Parameter("kd", SCALAR, default=0.0, valid=NON_NEGATIVE)),
-    doc="proportional, integral, derivative"))
+    Parameter("kp", PER_AXIS, default=1.0, valid=NON_NEGATIVE, doc="[1/s]"),
+    Parameter("ki", PER_AXIS, default=0.0, valid=NON_NEGATIVE, doc="[1/s^2]"),
+    Parameter("kd", PER_AXIS, default=0.0, valid=NON_NEGATIVE, doc="[-]")),
+    doc="proportional, integral, derivative; each one number or one per dof / per axis"))
+
+TOLERANCES: Registry[Kind] = Registry("tolerance")
+TOLERANCES.register(Kind("pose", (
+    Parameter("position", SCALAR, LENGTH, valid=POSITIVE, doc="default 1 mm"),
+    Parameter("orientation", SCALAR, ANGLE, valid=POSITIVE, doc="default 1 deg")),
+    space=POSE_SPACE, doc="the two parts of a body_pose task's tolerance"))
+TOLERANCES.register(Kind("twist", (
+    Parameter("linear", SCALAR, LINEAR_VELOCITY, valid=POSITIVE, doc="default 1 mm/s"),
+    Parameter("angular", SCALAR, ANGULAR_VELOCITY, valid=POSITIVE, doc="default 1 deg/s")),
+    space=TWIST_SPACE, doc="the two parts of a body_velocity task's tolerance"))
+"""A tolerance of two parts, ``pose(position = 2 mm, orientation = 1 deg)``: each part
+given alone may also be written as one number of its dimension."""

@@ -1,18 +1,35 @@
 """Print a mission syntax tree back as canonical text.
 
 Items and state parts keep their order; layout, spacing and number spelling are
-normalised and comments are not kept. Parsing the output gives an equal tree.
+normalised. Parsing the output gives an equal tree. :func:`format_mission` prints a
+tree alone; :func:`format_source` also keeps the comments of the text it was parsed
+from: a comment on its own line stays before the statement that followed it, a comment
+after code stays at the end of that statement's line.
 """
 
 from __future__ import annotations
 
 import math
+import re
+from dataclasses import dataclass
 
 from . import ast
+from .parser import mission_grammar
 
 INDENT = "    "
 _ONE_LINERS = (ast.WorldDecl, ast.ControllerDecl, ast.EventDecl, ast.StartDecl, ast.Import,
                ast.Let)
+
+
+@dataclass(frozen=True)
+class Line:
+    """One output line and the source line it prints (0 for a blank line)."""
+
+    text: str
+    origin: int = 0
+
+
+BLANK = Line("")
 
 
 def format_number(value: float) -> str:
@@ -80,7 +97,8 @@ def format_measure(measure: ast.Measure) -> str:
         return "elapsed"
     if isinstance(measure, ast.Time):
         return "time"
-    return f"distance({measure.first.text}, {measure.second.text})"
+    word = "clearance" if isinstance(measure, ast.Clearance) else "distance"
+    return f"{word}({measure.first.text}, {measure.second.text})"
 
 
 def format_condition(condition: ast.Condition) -> str:
@@ -118,28 +136,32 @@ def format_transition(transition: ast.Transition) -> str:
     return f"when {format_condition(transition.condition)} -> {transition.target.text}"
 
 
-def _transition_lines(transition: ast.Transition) -> list[str]:
+def _action_lines(actions: tuple[ast.Action, ...]) -> list[Line]:
+    return [Line(format_action(a), a.span.line) for a in actions]
+
+
+def _transition_lines(transition: ast.Transition) -> list[Line]:
     header = format_transition(transition)
     if not transition.actions:
-        return [header]
-    return _block(header, [format_action(a) for a in transition.actions], 0)
+        return [Line(header, transition.span.line)]
+    return _block(header, transition.span, _action_lines(transition.actions))
 
 
-def _block(header: str, lines: list[str], depth: int) -> list[str]:
-    pad = INDENT * depth
+def _block(header: str, span, lines: list[Line]) -> list[Line]:
+    """``header {``, the indented ``lines`` and ``}``; ``span`` is the block's source."""
     if not lines:
-        return [f"{pad}{header} {{}}"]
-    body = (f"{pad}{INDENT}{line}" if line else "" for line in lines)
-    return [f"{pad}{header} {{", *body, f"{pad}}}"]
+        return [Line(f"{header} {{}}", span.line)]
+    body = (Line(f"{INDENT}{line.text}", line.origin) if line.text else line for line in lines)
+    return [Line(f"{header} {{", span.line), *body, Line("}", span.end_line)]
 
 
-def _part_lines(part: ast.StatePart) -> list[str]:
+def _part_lines(part: ast.StatePart) -> list[Line]:
     if isinstance(part, ast.ActionBlock):
-        return _block(part.kind, [format_action(a) for a in part.actions], 0)
+        return _block(part.kind, part.span, _action_lines(part.actions))
     return _transition_lines(part)
 
 
-def _state_body(state: ast.StateDecl, inner: list[str]) -> list[str]:
+def _state_body(state: ast.StateDecl, inner: list[Line]) -> list[Line]:
     """The state's parts, with ``inner`` (its machine or regions) set apart by blank
     lines after the leading blocks, so that the parts keep their order."""
     if not inner:
@@ -151,56 +173,61 @@ def _state_body(state: ast.StateDecl, inner: list[str]) -> list[str]:
     return [line for section in _separated(sections) for line in section]
 
 
-def _separated(sections: list[list[str]]) -> list[list[str]]:
+def _separated(sections: list[list[Line]]) -> list[list[Line]]:
     """The non-empty sections, each after the first preceded by a blank line."""
     kept = [section for section in sections if section]
-    return kept[:1] + [["", *section] for section in kept[1:]]
+    return kept[:1] + [[BLANK, *section] for section in kept[1:]]
 
 
-def _region_lines(region: ast.Region) -> list[str]:
+def _region_lines(region: ast.Region) -> list[Line]:
     header = f"region {region.name.text}"
     if region.instance is not None:
-        return [f"{header}: {_instance(region.instance)}"]
-    return _block(header, _machine_lines(region.machine), 0)
+        return [Line(f"{header}: {_instance(region.instance)}", region.span.line)]
+    return _block(header, region.span, _machine_lines(region.machine))
 
 
 def _instance(instance: ast.Instance) -> str:
     return f"{instance.behavior.text}({_arguments(instance.arguments)})"
 
 
-def _state_lines(state: ast.StateDecl) -> list[str]:
+def _state_lines(state: ast.StateDecl) -> list[Line]:
     if state.final:
         header = f"final {state.name.text}" + (f": {state.outcome.text}" if state.outcome else "")
-        return _block(header, _state_body(state, []), 0) if state.parts else [header]
+        if not state.parts:
+            return [Line(header, state.span.line)]
+        return _block(header, state.span, _state_body(state, []))
     header = f"state {state.name.text}"
     if state.instance is not None:
         header += f": {_instance(state.instance)}"
-        return _block(header, _state_body(state, []), 0) if state.parts else [header]
+        if not state.parts:
+            return [Line(header, state.span.line)]
+        return _block(header, state.span, _state_body(state, []))
     if state.parallel:
         regions = [line for region in state.regions for line in _region_lines(region)]
-        return _block(f"{header}: parallel", _state_body(state, regions), 0)
+        return _block(f"{header}: parallel", state.span, _state_body(state, regions))
     inner = [line for region in state.regions for line in _machine_lines(region.machine)]
-    return _block(header, _state_body(state, inner), 0)
+    return _block(header, state.span, _state_body(state, inner))
 
 
-def _machine_lines(machine: ast.Machine) -> list[str]:
+def _machine_lines(machine: ast.Machine) -> list[Line]:
     return _items_lines(machine.items)
 
 
-def _declaration_lines(keyword: str, decl) -> list[str]:
+def _declaration_lines(keyword: str, decl) -> list[Line]:
     arguments = ", ".join(a.text for a in decl.arguments)
     header = f"{keyword} {decl.name.text}: {decl.kind.text}({arguments})"
     if not decl.parameters:
-        return [header]
+        return [Line(header, decl.span.line)]
     width = max(len(p.name.text) for p in decl.parameters)
-    lines = [f"{p.name.text:<{width}} = {format_value(p.value)}" for p in decl.parameters]
-    return _block(header, lines, 0)
+    lines = [Line(f"{p.name.text:<{width}} = {format_value(p.value)}", p.span.line)
+             for p in decl.parameters]
+    return _block(header, decl.span, lines)
 
 
-def _behavior_lines(behavior: ast.BehaviorDecl) -> list[str]:
+def _behavior_lines(behavior: ast.BehaviorDecl) -> list[Line]:
     parameters = ", ".join(map(_behavior_param, behavior.parameters))
     header = f"behavior {behavior.name.text}({parameters})"
-    return _block(header, _machine_lines(behavior.machine), 0)
+    return _block(header, behavior.span, _machine_lines(behavior.machine))
 
 
 def _behavior_param(parameter: ast.BehaviorParam) -> str:
@@ -215,33 +242,46 @@ def _described(keyword: str, name: ast.Name, description: str | None) -> str:
     return f"{keyword} {name.text}{described}"
 
 
-def format_item(item: ast.Item) -> list[str]:
-    """The lines of one top-level item."""
+def _one_line(item: ast.Item) -> str | None:
+    """The text of an item that always prints on one line, else ``None``."""
     if isinstance(item, ast.MissionHeader):
-        return [_described("mission", item.name, item.description)]
+        return _described("mission", item.name, item.description)
     if isinstance(item, ast.LibraryHeader):
-        return [_described("library", item.name, item.description)]
+        return _described("library", item.name, item.description)
     if isinstance(item, ast.Import):
-        return [f"import {format_string(item.path.text)}"]
+        return f"import {format_string(item.path.text)}"
     if isinstance(item, ast.Let):
-        return [f"let {item.name.text} = {format_value(item.value)}"]
+        return f"let {item.name.text} = {format_value(item.value)}"
+    if isinstance(item, ast.WorldDecl):
+        return f"world {format_string(item.path.text)}"
+    if isinstance(item, ast.ControllerDecl):
+        return f"controller {item.name.text}"
+    if isinstance(item, ast.EventDecl):
+        return _described("event", item.name, item.description)
+    if isinstance(item, ast.StartDecl):
+        return f"start {item.state.text}"
+    return None
+
+
+def item_lines(item: ast.Item) -> list[Line]:
+    """The lines of one item, each with the source line it prints."""
+    text = _one_line(item)
+    if text is not None:
+        return [Line(text, item.span.line)]
     if isinstance(item, ast.BehaviorDecl):
         return _behavior_lines(item)
-    if isinstance(item, ast.WorldDecl):
-        return [f"world {format_string(item.path.text)}"]
-    if isinstance(item, ast.ControllerDecl):
-        return [f"controller {item.name.text}"]
     if isinstance(item, ast.TaskDecl):
         return _declaration_lines("task", item)
     if isinstance(item, ast.ConstraintDecl):
         return _declaration_lines("constraint", item)
-    if isinstance(item, ast.EventDecl):
-        return [_described("event", item.name, item.description)]
-    if isinstance(item, ast.StartDecl):
-        return [f"start {item.state.text}"]
     if isinstance(item, ast.StateDecl):
         return _state_lines(item)
     return _transition_lines(item)
+
+
+def format_item(item: ast.Item) -> list[str]:
+    """The lines of one top-level item."""
+    return [line.text for line in item_lines(item)]
 
 
 def _packed(previous: ast.Item, item: ast.Item) -> bool:
@@ -254,18 +294,99 @@ def _packed(previous: ast.Item, item: ast.Item) -> bool:
             and previous.final and item.final and not previous.parts and not item.parts)
 
 
-def _items_lines(items) -> list[str]:
+def _items_lines(items) -> list[Line]:
     """Items one after the other, with a blank line between unrelated ones."""
-    lines: list[str] = []
+    lines: list[Line] = []
     previous = None
     for item in items:
         if previous is not None and not _packed(previous, item):
-            lines.append("")
-        lines += format_item(item)
+            lines.append(BLANK)
+        lines += item_lines(item)
         previous = item
     return lines
 
 
 def format_mission(mission: ast.Mission) -> str:
     """The whole mission as canonical text, ending with a newline."""
-    return "\n".join(_items_lines(mission.items)) + "\n"
+    return "\n".join(line.text for line in _items_lines(mission.items)) + "\n"
+
+
+@dataclass(frozen=True)
+class Comment:
+    """A ``#`` comment: its 1-based line, its text, and whether code precedes it."""
+
+    line: int
+    text: str
+    after_code: bool
+
+
+def comments(text: str) -> list[Comment]:
+    """Every comment of mission ``text``, found with the grammar's own STRING and
+    COMMENT terminals (a ``#`` inside a string is no comment)."""
+    grammar = mission_grammar()
+    string = grammar.get_terminal("STRING").pattern.to_regexp()
+    comment = grammar.get_terminal("COMMENT").pattern.to_regexp()
+    scanner = re.compile(f"{string}|(?P<comment>{comment})")
+    found = []
+    for number, line in enumerate(text.splitlines(), 1):
+        match = next((m for m in scanner.finditer(line) if m.group("comment")), None)
+        if match is not None:
+            found.append(Comment(number, match.group("comment").rstrip(),
+                                 bool(line[:match.start()].strip())))
+    return found
+
+
+def format_source(mission: ast.Mission, text: str) -> str:
+    """``mission`` as canonical text with the comments of ``text``, the source it was
+    parsed from; ending with a newline."""
+    lines = _items_lines(mission.items)
+    source = text.splitlines()
+
+    def blank(number: int) -> bool:
+        return 0 < number <= len(source) and not source[number - 1].strip()
+
+    trailing: dict[int, list[str]] = {}
+    leading: dict[int, list[Comment]] = {}
+    for comment in comments(text):
+        owner = _owner(lines, comment.line) if comment.after_code else None
+        if owner is None:
+            index = next((i for i, line in enumerate(lines) if line.origin > comment.line),
+                         len(lines))
+            leading.setdefault(index, []).append(comment)
+        else:
+            trailing.setdefault(owner, []).append(comment.text)
+    out: list[str] = []
+    for index in range(len(lines) + 1):
+        group = leading.get(index, [])
+        if group:
+            indent = _indent(lines[index].text) if index < len(lines) else ""
+            if blank(group[0].line - 1) and out and out[-1] and not out[-1].endswith("{"):
+                out.append("")
+            for previous, comment in zip([None, *group], group):
+                if previous is not None and comment.line > previous.line + 1:
+                    out.append("")
+                out.append(indent + comment.text)
+            following = lines[index].text if index < len(lines) else ""
+            if blank(group[-1].line + 1) and following and following.strip() != "}":
+                out.append("")
+        if index < len(lines):
+            line = lines[index]
+            out.append("  ".join([line.text, *trailing.get(index, [])]))
+    return "\n".join(out) + "\n"
+
+
+def _owner(lines: list[Line], number: int) -> int | None:
+    """The output line that a comment after code on source line ``number`` ends: the
+    first printed from the nearest source line at or before it."""
+    origins = [line.origin for line in lines if 0 < line.origin <= number]
+    if not origins:
+        return None
+    nearest = max(origins)
+    return next(i for i, line in enumerate(lines) if line.origin == nearest)
+
+
+def _indent(text: str) -> str:
+    """The indentation of a comment placed before the output line ``text``: that
+    line's own, one level deeper before a closing brace."""
+    indent = text[:len(text) - len(text.lstrip())]
+    return indent + INDENT if text.strip() == "}" else indent

@@ -8,19 +8,27 @@ ones inside brackets so long vectors and calls may span lines.
 from __future__ import annotations
 
 import functools
+import hashlib
+import os
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
-from lark import Lark, Token
+import lark
+from lark import Lark, Token, Tree
 from lark.exceptions import LarkError, VisitError
 from lark.lark import PostLex
 
 from ..diagnostics import Diagnostic, SourceFile, Span
 from ..resources import GRAMMAR_DIR
+from ..sources import MISSION, read_source
 from . import ast
 from .syntax_errors import RESERVED, Recovery
 from .transformer import MissionBuilder
 
+# Syntax-tree depth beyond which a mission is refused: the checker and the compiler
+# walk the tree recursively; real missions nest about 12 deep.
+MAX_NESTING = 64
 _BREAKABLE_AFTER = ("COMMA", "LPAR", "LSQB")
 _OPERATORS = ("AND", "OR", "NOT")
 
@@ -63,11 +71,38 @@ class StatementBreaks(PostLex):
 
 @functools.lru_cache(maxsize=None)
 def mission_grammar() -> Lark:
-    """The mission parser, built once from ``mission.lark``; lark caches the built
-    tables in the temporary folder (keyed by the grammar's hash) for the next process."""
-    return Lark((GRAMMAR_DIR / "mission.lark").read_text(encoding="utf-8"),
-                parser="lalr", lexer="contextual", propagate_positions=True,
-                postlex=StatementBreaks(), import_paths=[GRAMMAR_DIR], cache=True)
+    """The mission parser, built once from ``mission.lark``. The built tables are kept
+    for the next process only in the user's private cache folder (:func:`private_cache`):
+    lark unpickles its cache file, so a file others can write would run their code."""
+    text = (GRAMMAR_DIR / "mission.lark").read_text(encoding="utf-8")
+    return Lark(text, parser="lalr", lexer="contextual", propagate_positions=True,
+                postlex=StatementBreaks(), import_paths=[GRAMMAR_DIR],
+                cache=private_cache(text))
+
+
+def private_cache(grammar: str) -> str | bool:
+    """The parser cache file in ``$XDG_CACHE_HOME/robocop-mission`` (``~/.cache``), or
+    ``False`` (no cache) unless that folder and the file are the user's own and no one
+    else may write to them."""
+    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    folder = os.path.join(root, "robocop-mission")
+    digest = hashlib.sha256(f"{grammar}{lark.__version__}".encode()).hexdigest()[:24]
+    path = os.path.join(folder, f"mission-grammar-{digest}.lark")
+    try:
+        os.makedirs(folder, mode=0o700, exist_ok=True)
+        if not _private(os.stat(folder)):
+            return False
+        if os.path.lexists(path) and not _private(os.lstat(path)):
+            return False
+    except OSError:
+        return False
+    return path
+
+
+def _private(info: os.stat_result) -> bool:
+    """A folder or a regular file owned by this user that no one else may write to."""
+    kind = stat.S_ISDIR(info.st_mode) or stat.S_ISREG(info.st_mode)
+    return kind and info.st_uid == os.getuid() and not info.st_mode & 0o022
 
 
 @dataclass(frozen=True)
@@ -87,15 +122,39 @@ def parse_mission(text: str, path: str | Path = "<mission>") -> ParseResult:
     """Parse mission ``text``; never raises on bad input, diagnostics say what is wrong."""
     source = SourceFile(str(path), text)
     recovery = Recovery(source, mission_grammar())
+    mission = ast.Mission(span=Span.point(1))
     try:
         tree = mission_grammar().parse(text, on_error=recovery)
-        mission = MissionBuilder(text).transform(tree)
+        too_deep = _too_deep(tree)
+        if too_deep is None:
+            mission = MissionBuilder(text).transform(tree)
+        else:
+            recovery.diagnostics.append(source.error(
+                "syntax-error", f"nested more than {MAX_NESTING} levels deep", too_deep,
+                "give parts of the condition or of the state machine names of their own "
+                "(a 'let', a behaviour, a state)"))
     except (LarkError, VisitError) as error:
         recovery.give_up(error)
-        mission = ast.Mission(span=Span.point(1))
     return ParseResult(mission, tuple(recovery.diagnostics), source)
 
 
 def parse_file(path: str | Path) -> ParseResult:
-    """Read and parse a mission file (UTF-8)."""
-    return parse_mission(Path(path).read_text(encoding="utf-8"), path)
+    """Read and parse a mission file (see :func:`robocop_dsl.sources.read_source`).
+
+    Raises:
+        UnreadableSource: the file is refused or cannot be read.
+    """
+    return parse_mission(read_source(path, MISSION).text, path)
+
+
+def _too_deep(tree: Tree) -> Span | None:
+    """Where ``tree`` first nests deeper than :data:`MAX_NESTING`, or ``None``."""
+    stack = [(tree, 1)]
+    while stack:
+        node, depth = stack.pop()
+        if depth > MAX_NESTING:
+            start = node.meta if isinstance(node, Tree) and not node.meta.empty else node
+            return Span.point(getattr(start, "line", 1) or 1, getattr(start, "column", 1) or 1)
+        if isinstance(node, Tree):
+            stack += [(child, depth + 1) for child in reversed(node.children)]
+    return None

@@ -229,9 +229,9 @@ def _span(token: Token) -> Span:
 
 
 def _end_span(source: SourceFile) -> Span:
-    lines = source.text.splitlines() or [""]
-    number = max((i for i, line in enumerate(lines, 1) if line.strip()), default=1)
-    return Span.point(number, len(lines[number - 1].rstrip()) + 1)
+    """Just past the last non-blank line's code, lines counted as the lexer counts them."""
+    number = next((n for n in range(source.line_count, 0, -1) if source.line(n).strip()), 1)
+    return Span.point(number, len(source.line(number).rstrip()) + 1)
 
 
 def _trial(parser):

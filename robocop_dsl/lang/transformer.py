@@ -281,6 +281,9 @@ class MissionBuilder(Transformer):
     def distance(self, meta, children):
         return ast.Distance(_name(children[0]), _name(children[1]), span=self._span(meta))
 
+    def clearance(self, meta, children):
+        return ast.Clearance(_name(children[0]), _name(children[1]), span=self._span(meta))
+
     def member(self, meta, children):
         names = [_name(c) for c in children]
         region = names[1] if len(names) == 3 else None

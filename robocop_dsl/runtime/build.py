@@ -21,6 +21,7 @@ import operator
 from ..compile import spec as s
 from ..compile.state_graph import join
 from ..control import Controller, make_feedback_loop, make_interpolator
+from .clearance import Clearance
 from .program import Clause, MachineProgram, Program, StateProgram
 from .targets import control_target
 
@@ -30,8 +31,8 @@ _COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operato
 def build_controller(mission: s.MissionSpec, world, kinematics, processor: str | None = None,
                      **overrides) -> Controller:
     """A controller processor of the mission (default the one running the state machine)
-    with the constraints (enabled) and tasks (disabled) it runs, reading poses from
-    ``kinematics``. ``overrides``: ``solver``, ``hierarchy``, ``time_step`` (``None``
+    with the constraints and tasks it runs, enabled as declared (constraints by default,
+    tasks declared ``enabled = true``), reading poses from ``kinematics``. ``overrides``: ``solver``, ``hierarchy``, ``time_step`` (``None``
     keeps the world's)."""
     options = {k: v for k, v in overrides.items() if v is not None}
     processor = processor or mission.controller
@@ -39,14 +40,18 @@ def build_controller(mission: s.MissionSpec, world, kinematics, processor: str |
     mine = (lambda spec: spec.controller in (None, processor))
     for constraint in filter(mine, mission.constraints.values()):
         parameters = {k: v for k, v in constraint.parameters.items() if v is not None}
-        controller.add_constraint(constraint.type, constraint.name,
-                                  constraint.joint_group or constraint.body, **parameters)
+        added = controller.add_constraint(constraint.type, constraint.name,
+                                          constraint.joint_group or constraint.body,
+                                          **parameters)
+        added.enabled = constraint.enabled
     for spec in filter(mine, mission.tasks.values()):
         parameters = {
             "interpolator": make_interpolator(spec.interpolator.kind,
                                               **_scalars(spec.interpolator.parameters)),
             "feedback": make_feedback_loop(spec.feedback.kind, **spec.feedback.parameters),
             "priority": spec.priority, "weight": spec.weight}
+        if spec.tolerance:
+            parameters["tolerance"] = spec.tolerance
         if spec.reference is not None:
             parameters["reference"] = spec.reference
         task = controller.add_task(spec.type, spec.name, spec.joint_group or spec.body,
@@ -54,6 +59,8 @@ def build_controller(mission: s.MissionSpec, world, kinematics, processor: str |
         if spec.gain is not None:
             task.gain = spec.gain
         task.target = control_target(task, spec.target)
+        if spec.enabled:
+            task.enable()
     return controller
 
 
@@ -122,6 +129,9 @@ def condition(spec, remote=None):
     if isinstance(spec, s.ReachedCondition):
         task = _task_reader(spec.task, remote)
         return lambda runner, owner: task(runner).reached
+    if isinstance(spec, s.InterpolatedCondition):
+        task = _task_reader(spec.task, remote)
+        return lambda runner, owner: task(runner).interpolated
     if isinstance(spec, s.ControllerFailedCondition):
         return lambda runner, owner: runner.failed
     if isinstance(spec, s.EventCondition):
@@ -155,6 +165,9 @@ def _measure(spec, remote):
     if isinstance(spec, s.DistanceMeasure):
         return lambda runner, owner, a=spec.first, b=spec.second: \
             runner.kinematics.distance(a, b)
+    if isinstance(spec, s.ClearanceMeasure):
+        return lambda runner, owner, clearance=Clearance(spec.first, spec.second): \
+            clearance(runner.kinematics)
     task = _task_reader(spec.task, remote)
     return lambda runner, owner, field=spec.field: getattr(task(runner), field)
 

@@ -30,23 +30,24 @@ import numpy as np
 
 from ..diagnostics import RobocopError
 from ..drivers import AsyncWorldWriter
-from .runner import Runner
+from .runner import Runner, braked, braking_limits
 from .views import TaskViews, task_views
 
 
 @dataclass(frozen=True)
 class TaskStatus:
     """A task of another controller as conditions see it, as of that controller's last
-    cycle: ``reached``, and ``error``, ``position_error``, ``orientation_error`` in the
-    task's units [m, rad...]."""
+    cycle: ``reached``, ``interpolated``, and ``error``, ``position_error``,
+    ``orientation_error`` in the task's units [m, rad...]."""
 
     reached: bool
+    interpolated: bool
     error: float
     position_error: float
     orientation_error: float
 
 
-PENDING = TaskStatus(False, math.nan, math.nan, math.nan)
+PENDING = TaskStatus(False, False, math.nan, math.nan, math.nan)
 """The status of a task whose controller has not yet applied every action sent to it:
 not reached, and every comparison with its errors is false."""
 
@@ -252,7 +253,8 @@ class ControllerThread:
         self._thread.start()
 
     def stop(self) -> None:
-        """Stop after the current cycle; the robot is left holding."""
+        """Stop after the current cycle; the robot decelerates within its acceleration
+        limits (see :mod:`robocop_dsl.runtime.runner`), then holds."""
         self._stop.set()
         if self._thread is not None:
             self._thread.join()
@@ -269,7 +271,28 @@ class ControllerThread:
         finally:
             if self._lockstep is not None:
                 self._lockstep.advance(self.index, math.inf)
+            self._brake()
             self._release()
+
+    def _brake(self) -> None:
+        """Bring the robot to rest from the last command, one step per period (at the
+        wall clock's pace in real time), unless the driver failed."""
+        if self._fault is not None:
+            return
+        limits = braking_limits(self.controller)
+        command = braked(self.controller.state.previous_command, limits,
+                         self.controller.time_step)
+        deadline = clock.perf_counter()
+        try:
+            while np.any(command):
+                if self._lockstep is None:
+                    deadline += self.controller.time_step
+                    clock.sleep(max(deadline - clock.perf_counter(), 0.0))
+                self.driver.read()
+                self.driver.write(command)
+                command = braked(command, limits, self.controller.time_step)
+        except Exception as error:  # the driver is lost: nothing more to command
+            self._fail(f"driver: {error}")
 
     def _wait(self) -> bool:
         if self._lockstep is not None:
@@ -304,7 +327,8 @@ class ControllerThread:
         self._publish(not result.solved, result.reason or "")
 
     def _publish(self, failed: bool, message: str) -> None:
-        tasks = {t.name: TaskStatus(t.reached, t.error, t.position_error, t.orientation_error)
+        tasks = {t.name: TaskStatus(t.reached, t.interpolated, t.error, t.position_error,
+                                    t.orientation_error)
                  for t in self.controller.tasks()}
         self.link.publish_status(ControllerStatus(self.cycle, self._applied, failed,
                                                   self._failures, message, self._fault,
@@ -345,18 +369,36 @@ class CascadeRunner(Runner):
         self._v = np.zeros(self.kinematics.model.nv)
         self._reported = {t.name: (0, None) for t in self.threads}
         self._lockstep: Lockstep | None = None
+        self._realtime: bool | None = None
         self._wall_start = clock.perf_counter()
 
     def run(self, duration: float | None = None, realtime: bool = False):
         """Start the other controllers, run the mission (see :meth:`Runner.run`), stop
-        them; each leaves its robot holding."""
+        them; each brings its robot to rest and leaves it holding."""
+        self._realtime = realtime
+        return super().run(duration, realtime)
+
+    def start(self) -> None:
+        """Start the other controllers' threads (in lockstep unless the run keeps to
+        the wall clock: :meth:`run`'s ``realtime``, else the driver's), then the
+        mission (see :meth:`Runner.start`)."""
+        if self._started:
+            return
+        realtime = self.driver_realtime if self._realtime is None else self._realtime
         self._lockstep = None if realtime else Lockstep(1 + len(self.threads))
         self._wall_start = clock.perf_counter()
         for thread in self.threads:
             thread.start(self._wall_start, self._lockstep)
-        return super().run(duration, realtime)
+        super().start()
+
+    def tasks(self) -> tuple:
+        """Every task of every controller of the cascade."""
+        return super().tasks() + tuple(task for thread in self.threads
+                                       for task in thread.controller.tasks())
 
     def step(self) -> bool:
+        if not self._started:
+            self.start()
         if self._lockstep is not None:
             self._lockstep.wait(0)
         alive = super().step()

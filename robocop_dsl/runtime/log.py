@@ -4,15 +4,29 @@ they happen) and ``timeseries.parquet`` (one row per cycle, one column per signa
 The time series columns: ``cycle``, ``time`` [s], ``state`` (the active configuration:
 leaf state paths joined by `` | ``), ``solved``,
 ``q.JOINT`` [rad or m], ``command.JOINT`` [rad/s or m/s], ``error.TASK`` (norm, m or
-rad), ``reference.TASK.I`` (the task's interpolated reference, component I; poses as
-x, y, z [m] then a rotation vector [rad]),
-``cycle_time`` and ``compute_time`` [s]. Read it with ``pandas.read_parquet`` or
-``pyarrow.parquet.read_table(...).column("time").to_numpy()``.
+rad; NaN while the task is disabled; a pose task's parts also as
+``error.TASK.position`` [m] and ``error.TASK.orientation`` [rad]; each error field's
+``unit`` metadata says ``m``, ``rad`` or ``m+rad``), ``reference.TASK.I`` (the task's interpolated
+reference, component I; poses as x, y, z [m] then a rotation vector [rad]),
+``cycle_time`` and ``compute_time`` [s]. Read it with :func:`read_timeseries`,
+``pandas.read_parquet`` or ``pyarrow.parquet.read_table(...)``.
+
+The time series is streamed: every second of mission time a writer thread turns the
+cycles into one row group and writes it to ``timeseries.parts/`` as a file of its own
+(written under a temporary name, then renamed), so memory stays flat and a killed run
+keeps every row group but the one in progress. When the run stops, the parts are
+joined into ``timeseries.parquet`` (a minute of mission time per row group) and
+removed. :func:`read_timeseries` reads either.
 """
 
 from __future__ import annotations
 
 import json
+import os
+import queue
+import shutil
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -21,13 +35,25 @@ from .records import CycleRecord, Event, Observer
 
 EVENTS = "events.jsonl"
 TIMESERIES = "timeseries.parquet"
+PARTS = "timeseries.parts"
+GROUP_DURATION = 1.0
+"""Mission time [s] per row group."""
+JOINED_GROUPS = 60
+"""Row group files per row group of the joined ``timeseries.parquet``."""
+DEFAULT_ROWS = 200
+"""Rows per row group when the run's period is not known."""
+BACKLOG = 4
+"""Row groups waiting for the writer thread at most; the loop waits beyond."""
 
 
 class RunLogger(Observer):
-    """An observer that records every cycle in memory and every event on disk at once.
+    """An observer that writes every event at once and the time series in row groups,
+    from a writer thread, while the run goes; whatever ends the run, :meth:`on_stop`
+    writes the last rows and joins the row groups into one file.
 
-    The time series is written when the run stops, whatever the reason (success,
-    failure, fault, interruption), so no cycle is lost.
+    Args:
+        folder: The log folder (made if missing).
+        joint_names: The controlled joints, in command order.
     """
 
     def __init__(self, folder: str | Path, joint_names: list):
@@ -35,10 +61,27 @@ class RunLogger(Observer):
         self.folder.mkdir(parents=True, exist_ok=True)
         self.joint_names = list(joint_names)
         self._events = open(self.folder / EVENTS, "w", encoding="utf-8")
-        self._records: list[CycleRecord] = []
+        self._batch: list[CycleRecord] = []
+        self._rows = DEFAULT_ROWS
+        self._tasks: dict | None = None
+        self._units: dict = {}
+        self._groups = 0
+        self._queue: queue.Queue = queue.Queue(BACKLOG)
+        self._writer: threading.Thread | None = None
+        self._failure: BaseException | None = None
+        self._schema = None
+
+    def on_start(self, runner) -> None:
+        """Size the row groups to the run's period and give every task of the run its
+        columns (else they come from the first row group's enabled tasks)."""
+        self._rows = max(1, round(GROUP_DURATION / runner.time_step))
+        self._tasks = {task.name: _reference_width(task) for task in runner.tasks()}
+        self._units = {task.name: _error_unit(task) for task in runner.tasks()}
 
     def on_cycle(self, record: CycleRecord) -> None:
-        self._records.append(record)
+        self._batch.append(record)
+        if len(self._batch) >= self._rows:
+            self._hand_over()
 
     def on_event(self, event: Event) -> None:
         self._events.write(json.dumps(event.to_json(), default=_plain) + "\n")
@@ -46,40 +89,168 @@ class RunLogger(Observer):
 
     def on_stop(self, result) -> None:
         self._events.close()
-        self.write_timeseries()
+        self._hand_over()
+        if self._writer is None:
+            if self._tasks is None:
+                return
+            self._open([])
+        self._queue.put(None)
+        self._writer.join()
+        self._writer = None
+        if self._failure is not None:
+            raise self._failure
+        self._join_parts()
 
-    def write_timeseries(self) -> Path:
+    def _hand_over(self) -> None:
+        if not self._batch:
+            return
+        if self._writer is None:
+            self._open(self._batch)
+        self._queue.put(self._batch)
+        self._batch = []
+
+    def _open(self, records: list) -> None:
+        """Fix the columns, clear the folder's time series, start the writer thread."""
         import pyarrow as pa
+
+        if self._tasks is None:
+            self._tasks = {v.name: len(reference_vector(v.reference))
+                           for r in records for v in r.tasks}
+        self._schema = pa.schema(_fields(self.joint_names, self._tasks, self._units))
+        shutil.rmtree(self.folder / PARTS, ignore_errors=True)
+        (self.folder / PARTS).mkdir()
+        (self.folder / TIMESERIES).unlink(missing_ok=True)
+        self._writer = threading.Thread(target=self._write_groups, name="run log writer",
+                                        daemon=True)
+        self._writer.start()
+
+    def _write_groups(self) -> None:
+        """The writer thread: each batch of records becomes a row group file."""
         import pyarrow.parquet as pq
 
-        records = self._records
+        while (batch := self._queue.get()) is not None:
+            if self._failure is not None:
+                continue
+            try:
+                table = self._table(batch)
+                final = self.folder / PARTS / f"{self._groups:08d}.parquet"
+                temporary = final.with_suffix(".tmp")
+                pq.write_table(table, temporary)
+                os.replace(temporary, final)
+                self._groups += 1
+            except Exception as error:  # reported by on_stop, in the loop's thread
+                self._failure = error
+
+    def _table(self, records: list):
+        import pyarrow as pa
+
         columns: dict = {
             "cycle": np.array([r.cycle for r in records], dtype=np.int64),
             "time": np.array([r.time for r in records]),
-            "state": pa.array([r.state for r in records]).dictionary_encode(),
+            "state": [r.state for r in records],
             "solved": np.array([r.solved for r in records], dtype=bool),
         }
-        positions = _stack([r.positions for r in records], len(self.joint_names))
-        commands = _stack([r.command for r in records], len(self.joint_names))
+        width = len(self.joint_names)
+        positions = _stack([r.positions for r in records], width)
+        commands = _stack([r.command for r in records], width)
         for index, joint in enumerate(self.joint_names):
             columns[f"q.{joint}"] = positions[:, index]
         for index, joint in enumerate(self.joint_names):
             columns[f"command.{joint}"] = commands[:, index]
-        views = [{v.name: v for v in r.tasks} for r in records]
-        tasks = list(dict.fromkeys(name for by_name in views for name in by_name))
-        for task in tasks:
+        views = []
+        for record in records:
+            views.append({v.name: v for v in record.tasks})
+            time.sleep(0)   # let the control loop take the interpreter at once
+        for task, size in self._tasks.items():
             columns[f"error.{task}"] = np.array(
                 [v[task].error if task in v else np.nan for v in views])
+            if self._units.get(task) == "m+rad":
+                for part in ("position", "orientation"):
+                    columns[f"error.{task}.{part}"] = np.array(
+                        [getattr(v[task], f"{part}_error") if task in v else np.nan
+                         for v in views])
             flat = [reference_vector(v[task].reference) if task in v else None for v in views]
-            size = max((len(f) for f in flat if f is not None), default=0)
             references = _stack(flat, size)
             for component in range(size):
                 columns[f"reference.{task}.{component}"] = references[:, component]
         columns["cycle_time"] = np.array([r.cycle_time for r in records])
         columns["compute_time"] = np.array([r.compute_time for r in records])
+        return pa.table(columns, schema=self._schema)
+
+    def _join_parts(self) -> Path:
+        """Join the row group files into ``timeseries.parquet``, :data:`JOINED_GROUPS` of
+        them per row group of the file (few row groups keep the file's footer small),
+        then remove them."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        parts = sorted((self.folder / PARTS).glob("*.parquet"))
         path = self.folder / TIMESERIES
-        pq.write_table(pa.table(columns), path)
+        temporary = path.with_suffix(".tmp")
+        with pq.ParquetWriter(temporary, self._schema) as writer:
+            for first in range(0, len(parts), JOINED_GROUPS):
+                tables = []
+                for part in parts[first:first + JOINED_GROUPS]:
+                    with pq.ParquetFile(part) as file:
+                        tables.append(file.read())
+                writer.write_table(pa.concat_tables(tables))
+        os.replace(temporary, path)
+        shutil.rmtree(self.folder / PARTS)
         return path
+
+
+def _fields(joint_names: list, tasks: dict, units: dict) -> list:
+    """The time series' columns, in order, as pyarrow fields; error fields carry their
+    ``unit`` (``units``: task -> unit) as metadata."""
+    import pyarrow as pa
+
+    def error(name: str, unit: str | None):
+        return pa.field(name, pa.float64(), metadata={"unit": unit} if unit else None)
+
+    fields = [pa.field("cycle", pa.int64()), pa.field("time", pa.float64()),
+              pa.field("state", pa.string()), pa.field("solved", pa.bool_())]
+    fields += [pa.field(f"q.{joint}", pa.float64()) for joint in joint_names]
+    fields += [pa.field(f"command.{joint}", pa.float64()) for joint in joint_names]
+    for task, size in tasks.items():
+        fields.append(error(f"error.{task}", units.get(task)))
+        if units.get(task) == "m+rad":
+            fields += [error(f"error.{task}.position", "m"),
+                       error(f"error.{task}.orientation", "rad")]
+        fields += [pa.field(f"reference.{task}.{i}", pa.float64()) for i in range(size)]
+    fields += [pa.field("cycle_time", pa.float64()), pa.field("compute_time", pa.float64())]
+    return fields
+
+
+def _error_unit(task) -> str | None:
+    """The unit of a task's error norm: ``m``, ``rad`` or ``m+rad`` (a pose, or a joint
+    group with both kinds of joints); ``None`` for velocity tasks."""
+    if task.order != 0:
+        return None
+    if task.kind == "joint_position":
+        world = task.state.world
+        prismatic = {world.joint(joint).type == "prismatic" for joint in task.group.joints}
+        return {frozenset({True}): "m", frozenset({False}): "rad"}.get(frozenset(prismatic),
+                                                                      "m+rad")
+    return {"body_position": "m", "body_pose": "m+rad"}.get(task.kind, "rad")
+
+
+def timeseries_schema(folder: str | Path):
+    """The pyarrow schema of a logged run's time series (joined or in row groups)."""
+    import pyarrow.parquet as pq
+
+    folder = Path(folder)
+    if (folder / TIMESERIES).is_file():
+        return pq.read_schema(folder / TIMESERIES)
+    parts = sorted((folder / PARTS).glob("*.parquet"))
+    if not parts:
+        raise FileNotFoundError(f"{folder} has neither {TIMESERIES} nor {PARTS}/")
+    return pq.read_schema(parts[0])
+
+
+def _reference_width(task) -> int:
+    """How many numbers a task's logged reference has: 6 for an orientation (logged as
+    a pose, see :func:`reference_vector`), else the task's dimension."""
+    return 6 if task.kind == "body_orientation" else int(task.dimension)
 
 
 def reference_vector(reference: np.ndarray) -> np.ndarray:
@@ -109,15 +280,31 @@ def _plain(value):
 
 
 def read_events(folder: str | Path) -> list:
-    """The events of a logged run, as dictionaries."""
+    """The events of a logged run, as dictionaries (a line cut short by a kill is
+    left out)."""
     lines = (Path(folder) / EVENTS).read_text(encoding="utf-8").splitlines()
-    return [json.loads(line) for line in lines if line.strip()]
+    events = []
+    for line in lines:
+        try:
+            events.append(json.loads(line))
+        except json.JSONDecodeError:
+            continue
+    return events
 
 
 def read_timeseries(folder: str | Path) -> dict:
-    """The time series of a logged run: column name -> numpy array."""
+    """The time series of a logged run: column name -> numpy array. A run that was
+    killed has no ``timeseries.parquet``: its row groups written so far are read."""
+    import pyarrow as pa
     import pyarrow.parquet as pq
 
-    table = pq.read_table(Path(folder) / TIMESERIES)
+    folder = Path(folder)
+    if (folder / TIMESERIES).is_file():
+        table = pq.read_table(folder / TIMESERIES)
+    else:
+        parts = sorted((folder / PARTS).glob("*.parquet"))
+        if not parts:
+            raise FileNotFoundError(f"{folder} has neither {TIMESERIES} nor {PARTS}/")
+        table = pa.concat_tables([pq.read_table(part) for part in parts])
     return {name: table.column(name).to_numpy(zero_copy_only=False)
             for name in table.column_names}

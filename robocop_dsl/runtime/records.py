@@ -18,7 +18,8 @@ class TaskView:
     [m] for ``position``, joint vectors [rad or m] for ``joint`` and velocity vectors for
     ``velocity``; a ``gaze`` task's target is the watched pose (4x4) and its reference
     the 2-vector of the direction's components across the optical axis. ``error`` is
-    the norm of the task error [m or rad].
+    the norm of the task error [m or rad]; for a ``pose``, ``position_error`` [m] and
+    ``orientation_error`` [rad] are its two parts (NaN for other kinds).
     """
 
     name: str
@@ -27,6 +28,8 @@ class TaskView:
     error: float
     target: np.ndarray
     reference: np.ndarray
+    position_error: float = float("nan")
+    orientation_error: float = float("nan")
 
 
 @dataclass(slots=True)
@@ -60,8 +63,10 @@ class CycleRecord:
 
 @dataclass(frozen=True)
 class Event:
-    """Something that happened during a run: ``kind`` is one of ``transition``,
-    ``action``, ``qp_failure``, ``overrun``, ``fault``, ``event``, ``log``, ``end``."""
+    """Something that happened during a run: ``kind`` is one of ``start``,
+    ``transition``, ``action``, ``qp_failure``, ``overrun``, ``fault`` (its ``message``
+    names what failed), ``event``, ``log``, ``end`` (``outcome``, ``state``,
+    ``message``, ``holding``)."""
 
     kind: str
     time: float
@@ -91,4 +96,5 @@ class Observer:
         """Called for each event as it happens."""
 
     def on_stop(self, result) -> None:
-        """Called once when the run ends, whatever the reason."""
+        """Called once when the run ends, whatever the reason (after the robot was
+        brought to rest), even after this observer raised."""

@@ -23,9 +23,11 @@ class RunResult:
     """``outcome``: ``success`` or ``failure`` (the final state's), ``stopped`` (the
     duration cap came first), ``fault`` (a run-time fault with no handler) or
     ``interrupted`` (Ctrl-C). ``final_state`` is the active configuration at the end
-    (leaf state paths joined by `` | ``). Times in seconds: ``cycle_times`` are whole cycles,
-    observers included; ``compute_times`` the controller's work in them (forward
-    kinematics and QP)."""
+    (leaf state paths joined by `` | ``). Times in seconds: ``mission_time`` includes
+    the cycles that brought the robot to rest; ``cycle_times`` are whole cycles,
+    observers included, and ``compute_times`` the controller's work in them (forward
+    kinematics and QP), every cycle up to 65,536 of them, a uniform sample of the
+    cycles beyond (the slowest always kept)."""
 
     outcome: str
     final_state: str

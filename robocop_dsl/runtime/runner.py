@@ -7,27 +7,82 @@
 4. compute the QP command and write it to the driver; observers get a copy.
 
 ``controller.failed`` is true in the cycle after a cycle whose QP had no solution or
-whose driver stopped answering. A fault that no clause handles ends the run with
-outcome ``fault``; whatever ends a run, the robot is left holding (zero velocity) and
-every observer's ``on_stop`` runs.
+whose driver stopped answering. A fault that no clause handles, and any exception in
+the loop (a clause, an action, a task, an observer, the driver), ends the run with
+outcome ``fault``.
+
+Stopping: whatever ends a run (a final state, the duration, a fault, :meth:`Runner.stop`)
+the robot decelerates within its acceleration limits, then holds (zero velocity). The
+stop scales the last command down to zero in equal steps, so every joint keeps its
+direction and reaches zero in the same cycle, in as few cycles as the slowest-braking
+joint needs at its limit: the smallest ``max_acceleration`` of the world's joint group
+and of the enabled ``joint_kinematic`` constraints. Those cycles are run and recorded
+like any other, in the state that ended the run; every observer's ``on_stop`` runs
+after them.
 """
 
 from __future__ import annotations
 
+import math
+import random
 import time as clock
+import traceback
 
 import numpy as np
 
+from ..control.exceptions import PartFailed
 from ..diagnostics import RobocopError
 from .program import Program
 from .records import CycleRecord, Event
 from .result import RunResult, TransitionRecord
-from .statechart import Statechart
+from .statechart import Statechart, StepFailed
 from .views import TaskViews, task_views
+
+SAMPLED_CYCLES = 1 << 16
+"""How many cycle times a run keeps for its statistics (a uniform sample beyond)."""
+
+
+class CycleTimes:
+    """Cycle and compute times [s] of a run in constant memory: every cycle until
+    ``capacity``, then a uniform sample of them (reservoir sampling, seeded), the slowest
+    cycle always among them."""
+
+    def __init__(self, capacity: int = SAMPLED_CYCLES):
+        self._cycle = np.empty(capacity)
+        self._compute = np.empty(capacity)
+        self._count = 0
+        self._slowest = (-math.inf, 0.0)
+        self._random = random.Random(0)
+
+    def __len__(self) -> int:
+        return self._count
+
+    def add(self, cycle_time: float, compute_time: float) -> None:
+        count, capacity = self._count, len(self._cycle)
+        self._count += 1
+        if cycle_time > self._slowest[0]:
+            self._slowest = (cycle_time, compute_time)
+        slot = count if count < capacity else self._random.randrange(count + 1)
+        if slot < capacity:
+            self._cycle[slot], self._compute[slot] = cycle_time, compute_time
+
+    def arrays(self) -> tuple:
+        """``(cycle_times, compute_times)`` of the kept cycles, the slowest included."""
+        kept = min(self._count, len(self._cycle))
+        cycles, computes = self._cycle[:kept].copy(), self._compute[:kept].copy()
+        if kept and self._slowest[0] > cycles.max():
+            cycles[0], computes[0] = self._slowest
+        return cycles, computes
 
 
 class Runner:
     """Runs a :class:`Program` with a controller, its kinematics and a driver.
+
+    Use :meth:`run`, or drive the loop yourself: :meth:`start` (optional: the first
+    :meth:`step` starts), :meth:`step` once per control period until it returns
+    ``False``, then :meth:`finish` for the :class:`RunResult`. :meth:`emit` raises an
+    event and :meth:`stop` ends the run from anywhere (another thread, a signal
+    handler).
 
     Args:
         program: The executable mission.
@@ -38,6 +93,8 @@ class Runner:
     Attributes:
         chart: The :class:`~robocop_dsl.runtime.statechart.Statechart` running the
             program's machines.
+        error: The exception that ended the run with a fault, or ``None`` (its
+            traceback is :meth:`fault_traceback`).
     """
 
     def __init__(self, program: Program, controller, driver, name: str = "mission"):
@@ -52,18 +109,25 @@ class Runner:
         self._wants_tasks = False
         self.cycle = 0
         self.failed = False
+        self.error: BaseException | None = None
+        self._raised: BaseException | None = None
         self.chart = Statechart(program, self._on_transition)
         self._in_cycle = False
         self._steps: tuple = ()
         self._started = False
         self._done: str | None = None
         self._message = ""
+        self._stop_request: tuple | None = None
+        self._stopping_cycles = 0
         self._driver_lost = False
         self._held = False
+        self._braking: np.ndarray | None = None
+        self._last_command = np.zeros(len(self.joint_names))
+        self._result: RunResult | None = None
+        self._broken: set = set()
         self._attached: dict = {}
         self._transitions: list = []
-        self._cycle_times: list = []
-        self._compute_times: list = []
+        self._times = CycleTimes()
         self._qp_failures = 0
         self._overruns = 0
         self.q = None
@@ -84,7 +148,14 @@ class Runner:
 
     @property
     def finished(self) -> bool:
-        return self._done is not None
+        """Whether the run has ended: its outcome is decided and the robot holds."""
+        return self._done is not None and self._holding()
+
+    @property
+    def outcome(self) -> str | None:
+        """The run's outcome once decided (the robot may still be stopping), else
+        ``None``."""
+        return self._done
 
     def add_observer(self, observer) -> None:
         self.observers.append(observer)
@@ -93,6 +164,97 @@ class Runner:
     def task_views(self) -> TaskViews:
         """The enabled tasks at the latest cycle (targets and references in the world)."""
         return task_views(self.controller)
+
+    def tasks(self) -> tuple:
+        """Every task of the mission (enabled or not), of every controller."""
+        return self.controller.tasks()
+
+    # ---- the public loop ------------------------------------------------------------
+
+    def start(self) -> None:
+        """Begin the run: observers' ``on_start``, the ``start`` event, the driver
+        connected and read, the start state entered. The first :meth:`step` calls it
+        when not called before; calling it again does nothing."""
+        if self._started:
+            return
+        self._started = True
+        for observer in list(self.observers):
+            self._call(observer, "on_start", self)
+        self._notify_event("start", {"state": self.state})
+        try:
+            self.driver.connect()
+            self.q, _ = self.driver.read()
+        except Exception as error:  # any driver failure is the run's fault
+            self._driver_fault(error)
+            self._finish("fault", f"driver: {_text(error)}")
+            return
+        try:
+            self.kinematics.update(self.q)
+            self._macro(self.chart.start(self))
+        except Exception as error:  # an enter block of the start states raised
+            self._fault(error)
+
+    def step(self) -> bool:
+        """Run one control cycle; ``False`` once the run has ended (outcome decided,
+        the robot brought to rest and holding): then call :meth:`finish`."""
+        self._in_cycle = True
+        try:
+            return self._cycle()
+        finally:
+            self._in_cycle = False
+
+    def stop(self, message: str = "stopped by the caller", outcome: str = "interrupted") -> None:
+        """End the run at the start of the next cycle with ``outcome`` and ``message``
+        (unless it already ended); the robot then decelerates and holds over the next
+        :meth:`step` calls. Safe from a signal handler or another thread."""
+        self._stop_request = (outcome, message)
+
+    def finish(self) -> RunResult:
+        """End the run and return its result; the same result when called again.
+
+        A run still going is stopped first (outcome ``interrupted``) and its robot
+        decelerated at the control period (keeping to the wall clock when the driver
+        does). Then the ``end`` event, every observer's ``on_stop`` and the driver's
+        ``disconnect``.
+        """
+        if self._result is not None:
+            return self._result
+        if not self.finished:
+            if self._done is None:
+                self.stop("finished before the mission ended")
+            deadline = clock.perf_counter()
+            while self.step():
+                if self.driver_realtime:
+                    deadline += self.time_step
+                    clock.sleep(max(deadline - clock.perf_counter(), 0.0))
+        return self._close()
+
+    def run(self, duration: float | None = None, realtime: bool = False) -> RunResult:
+        """Run until a final state, a fault, ``duration`` [s] of mission time,
+        :meth:`stop` or Ctrl-C (a second Ctrl-C while the robot stops holds it at once);
+        return :meth:`finish`'s result."""
+        wall_start = clock.perf_counter()
+        try:
+            self._loop(duration, realtime, wall_start)
+        except KeyboardInterrupt:
+            self.stop("interrupted (Ctrl-C)")
+            try:
+                self._loop(None, realtime, wall_start)
+            except KeyboardInterrupt:
+                self._finish("interrupted", "interrupted (Ctrl-C)")
+                self._hold()
+        return self.finish()
+
+    @property
+    def driver_realtime(self) -> bool:
+        """Whether the driver's robot follows the wall clock."""
+        return bool(getattr(self.driver, "realtime", False))
+
+    def fault_traceback(self) -> str:
+        """The traceback of the exception that ended the run (empty if none)."""
+        if self._raised is None:
+            return ""
+        return "".join(traceback.format_exception(self._raised))
 
     def emit(self, event: str) -> None:
         """Raise ``event``: ``event NAME`` conditions see it from the next cycle on while
@@ -119,25 +281,121 @@ class Runner:
         self._attached.pop(body, None)
         self._notify_event("action", {"action": "detach", "body": body})
 
-    def _notify_event(self, kind: str, data: dict) -> None:
-        event = Event(kind, self.time, self.cycle, data)
-        for observer in self.observers:
-            observer.on_event(event)
+    # ---- one cycle ------------------------------------------------------------------
 
-    def _start(self) -> None:
-        self._started = True
-        for observer in self.observers:
-            observer.on_start(self)
-        self._notify_event("start", {"state": self.state})
+    def _loop(self, duration: float | None, realtime: bool, wall_start: float) -> None:
+        while self.step():
+            if (duration is not None and self._done is None
+                    and self.time >= duration - 1e-12):
+                self._finish("stopped", f"duration of {duration:g} s reached")
+            if realtime:
+                self._sleep_to(wall_start + self.cycle * self.time_step)
+
+    def _cycle(self) -> bool:
+        if not self._started:
+            self.start()
+        if self.finished:
+            return False
+        if self._done is None and self._stop_request is not None:
+            self._finish(*self._stop_request)
+        started = clock.perf_counter()
+        self._read()
+        compute_time = 0.0
+        command, solved = None, True
         try:
-            self.driver.connect()
-            self.q, _ = self.driver.read()
-        except RobocopError as error:
-            self._driver_fault(error)
-            self._finish("fault", f"driver: {error}")
+            before_kinematics = clock.perf_counter()
+            self.kinematics.update(self.q)
+            compute_time = clock.perf_counter() - before_kinematics
+            if self._done is None:
+                if self._unhandled_failure():
+                    self._finish("fault", self._message or "run-time fault with no handler")
+                else:
+                    self._macro(self.chart.transitions(self))
+            if self._done is None:
+                self.chart.during(self)
+            if self._done is None:
+                command, solved, qp_time = self._command()
+                compute_time += qp_time
+        except Exception as error:  # whatever raises in the loop ends the run safely
+            self._fault(error)
+        if command is None:
+            command = self._stopping_command()
+        self._write(command)
+        self._record(command, solved, compute_time, clock.perf_counter() - started)
+        self._times.add(clock.perf_counter() - started, compute_time)
+        self.cycle += 1
+        return not self.finished
+
+    def _command(self):
+        if self._driver_lost:
+            return np.zeros(len(self.joint_names)), True, 0.0
+        result = self.controller.compute(self.q)
+        self.failed = not result.solved
+        if result.solved:
+            return result.velocity, True, result.timings.total
+        self._qp_failures += 1
+        self._message = f"no QP solution in state '{self.state}': {result.reason}"
+        self._notify_event("qp_failure", {"message": result.reason, "state": self.state,
+                                          "repeat": self._qp_failures > 1})
+        command = self._braked(self._last_command, self.braking_limits())
+        self.controller.state.previous_command = command.copy()
+        return command, False, result.timings.total
+
+    def braking_limits(self) -> np.ndarray:
+        """See :func:`braking_limits`."""
+        return braking_limits(self.controller)
+
+    def _braked(self, command: np.ndarray, limits: np.ndarray) -> np.ndarray:
+        return braked(command, limits, self.time_step)
+
+    def _stopping_command(self) -> np.ndarray:
+        """The command of a cycle after the outcome was decided: one step of the stop,
+        its limits taken when the stop began."""
+        if self._braking is None:
+            self._braking = self.braking_limits()
+        self._stopping_cycles += 1
+        return self._braked(self._last_command, self._braking)
+
+    def _write(self, command: np.ndarray) -> None:
+        if self._driver_lost:
             return
-        self.kinematics.update(self.q)
-        self._macro(self.chart.start(self))
+        at_rest = self._done is not None and not np.any(command)
+        try:
+            if at_rest:
+                self.driver.hold()
+            else:
+                self.driver.write(command)
+        except Exception as error:  # any driver failure is the run's fault
+            self._driver_fault(error)
+            return
+        self._last_command = np.array(command, dtype=float)
+        self._held = at_rest
+
+    def _read(self) -> None:
+        if self._driver_lost:
+            return
+        try:
+            self.q, _ = self.driver.read()
+        except Exception as error:  # any driver failure is the run's fault
+            self._driver_fault(error)
+
+    def _record(self, command, solved, compute_time, cycle_time) -> None:
+        """Hand observers a copy of the cycle; ``compute_time`` [s] is the controller's
+        work (kinematics and QP), ``cycle_time`` [s] the cycle before observers."""
+        steps, self._steps = self._steps, ()
+        if not self.observers:
+            return
+        bodies = {b: self.kinematics.pose(f).homogeneous.copy()
+                  for b, f in self._attached.items()}
+        record = CycleRecord(self.cycle, self.time, self.state, self.q.copy(),
+                             self.controller.joint_group.positions(self.q),
+                             np.array(command, dtype=float), solved,
+                             self.task_views() if self._wants_tasks else (), bodies,
+                             compute_time, cycle_time, steps)
+        for observer in list(self.observers):
+            self._call(observer, "on_cycle", record)
+
+    # ---- ending ---------------------------------------------------------------------
 
     def _macro(self, step) -> None:
         """Keep the micro steps of ``step`` for this cycle's record; end the run when it
@@ -151,18 +409,34 @@ class Runner:
             self._done = outcome
             self._message = message
 
-    def _read(self) -> None:
-        if self._driver_lost:
-            return
-        try:
-            self.q, _ = self.driver.read()
-        except RobocopError as error:
-            self._driver_fault(error)
+    def _fault(self, error: BaseException, where: str | None = None) -> None:
+        """End the run with outcome ``fault`` for ``error`` raised in the loop."""
+        message = f"{where or self._where(error)}: {_text(_origin(error))}"
+        self.failed = True
+        if self._done is None:
+            self.error, self._raised = _origin(error), error
+            self._finish("fault", message)
+        self._notify_event("fault", {"message": message, "state": self.state})
+
+    def _where(self, error: BaseException) -> str:
+        """What raised ``error``, in the mission's words: the clause or block, its action
+        and the state, and the task or constraint when one raised."""
+        where, cause = None, error
+        if isinstance(error, StepFailed):
+            where, cause = error.where, error.__cause__
+        owner = cause.owner if isinstance(cause, PartFailed) else None
+        if where is not None:
+            return f"{where}, {owner}" if owner else where
+        return f"{owner or 'controller'} in state '{self.state}'"
 
     def _driver_fault(self, error: Exception) -> None:
         self._driver_lost = True
         self.failed = True
-        self._notify_event("fault", {"message": f"driver: {error}", "state": self.state})
+        if self._done is None:
+            self._message = f"driver: {_text(error)}"
+            if not isinstance(error, RobocopError):
+                self.error = self._raised = error
+        self._notify_event("fault", {"message": f"driver: {_text(error)}", "state": self.state})
 
     def _on_transition(self, source: str, target: str, condition: str) -> None:
         """A clause fires (before its actions): record it and tell the observers."""
@@ -173,94 +447,22 @@ class Runner:
     def _unhandled_failure(self) -> bool:
         return self.failed and not self.chart.handles_failure()
 
-    def step(self) -> bool:
-        """Run one cycle; return ``False`` once the mission has ended."""
-        self._in_cycle = True
-        try:
-            return self._cycle()
-        finally:
-            self._in_cycle = False
+    def _notify_event(self, kind: str, data: dict) -> None:
+        event = Event(kind, self.time, self.cycle, data)
+        for observer in list(self.observers):
+            self._call(observer, "on_event", event)
 
-    def _cycle(self) -> bool:
-        if not self._started:
-            self._start()
-        if self._done is not None:
-            return False
-        started = clock.perf_counter()
-        self._read()
-        before_kinematics = clock.perf_counter()
-        self.kinematics.update(self.q)
-        kinematics_time = clock.perf_counter() - before_kinematics
-        if self._unhandled_failure():
-            self._finish("fault", self._message or "run-time fault with no handler")
-        else:
-            self._macro(self.chart.transitions(self))
-        if self._done is None:
-            self.chart.during(self)
-        command, solved, compute_time = self._command()
-        self._write(command)
-        self._record(command, solved, kinematics_time + compute_time,
-                     clock.perf_counter() - started)
-        self._cycle_times.append(clock.perf_counter() - started)
-        self.cycle += 1
-        return self._done is None
-
-    def _command(self):
-        if self._done is not None or self._driver_lost:
-            return np.zeros(len(self.joint_names)), True, 0.0
-        result = self.controller.compute(self.q)
-        self.failed = not result.solved
-        if not result.solved:
-            self._qp_failures += 1
-            self._message = f"no QP solution in state '{self.state}': {result.reason}"
-            self._notify_event("qp_failure", {"message": result.reason, "state": self.state,
-                                              "repeat": self._qp_failures > 1})
-        return result.velocity, result.solved, result.timings.total
-
-    def _write(self, command: np.ndarray) -> None:
-        if self._driver_lost:
+    def _call(self, observer, hook: str, argument) -> None:
+        """``observer.hook(argument)``; an observer that raises is a fault and hears
+        nothing more but ``on_stop``."""
+        if id(observer) in self._broken:
             return
         try:
-            if self._done is None:
-                self.driver.write(command)
-            else:
-                self.driver.hold()
-                self._held = True
-        except RobocopError as error:
-            self._driver_fault(error)
-
-    def _record(self, command, solved, compute_time, cycle_time) -> None:
-        """Hand observers a copy of the cycle; ``compute_time`` [s] is the controller's
-        work (kinematics and QP), ``cycle_time`` [s] the cycle before observers."""
-        self._compute_times.append(compute_time)
-        steps, self._steps = self._steps, ()
-        if not self.observers:
-            return
-        bodies = {b: self.kinematics.pose(f).homogeneous.copy()
-                  for b, f in self._attached.items()}
-        record = CycleRecord(self.cycle, self.time, self.state, self.q.copy(),
-                             self.q[self.controller.joint_group.q_indices],
-                             np.array(command, dtype=float), solved,
-                             self.task_views() if self._wants_tasks else (), bodies,
-                             compute_time, cycle_time, steps)
-        for observer in self.observers:
-            observer.on_cycle(record)
-
-    def run(self, duration: float | None = None, realtime: bool = False) -> RunResult:
-        """Run until a final state, a fault, ``duration`` [s] of mission time or Ctrl-C."""
-        wall_start = clock.perf_counter()
-        try:
-            while self.step():
-                if duration is not None and self.time >= duration - 1e-12:
-                    self._finish("stopped", f"duration of {duration:g} s reached")
-                    self._hold()
-                    break
-                if realtime:
-                    self._sleep_to(wall_start + self.cycle * self.time_step)
-        except KeyboardInterrupt:
-            self._finish("interrupted", "interrupted (Ctrl-C)")
-            self._hold()
-        return self._close()
+            getattr(observer, hook)(argument)
+        except Exception as error:  # an observer's bug must not leave the robot moving
+            self._broken.add(id(observer))
+            self._fault(error, f"observer {type(observer).__name__}.{hook} in state "
+                               f"'{self.state}'")
 
     def _sleep_to(self, deadline: float) -> None:
         remaining = deadline - clock.perf_counter()
@@ -280,18 +482,69 @@ class Runner:
             try:
                 self.driver.hold()
                 self._held = True
-            except RobocopError as error:
+            except Exception as error:  # any driver failure is the run's fault
                 self._driver_fault(error)
 
     def _close(self) -> RunResult:
+        cycle_times, compute_times = self._times.arrays()
+        message = self._message
+        if self._stopping_cycles > 1:
+            message += (f"; brought to rest in {self._stopping_cycles * self.time_step:.3f} s"
+                        " within the acceleration limits")
         result = RunResult(self._done or "stopped", self.state, self.time, self.cycle,
-                           list(self._transitions), np.array(self._cycle_times),
-                           np.array(self._compute_times), self._qp_failures, self._overruns,
-                           self._message)
+                           list(self._transitions), cycle_times, compute_times,
+                           self._qp_failures, self._overruns, message)
         self._notify_event("end", {"outcome": result.outcome, "state": result.final_state,
                                    "message": result.message,
                                    "holding": self._holding()})
         for observer in self.observers:
-            observer.on_stop(result)
-        self.driver.disconnect()
+            try:
+                observer.on_stop(result)
+            except Exception as error:  # every observer gets its on_stop
+                result.message += (f"; observer {type(observer).__name__}.on_stop: "
+                                   f"{_text(error)}")
+        try:
+            self.driver.disconnect()
+        except Exception as error:  # the run is over: report, do not raise
+            result.message += f"; driver disconnect: {_text(error)}"
+        self._result = result
         return result
+
+
+def braking_limits(controller) -> np.ndarray:
+    """Per joint of ``controller``'s group, the acceleration [rad/s^2 or m/s^2] a stop
+    brakes at: the smallest of the world's and of the enabled ``joint_kinematic``
+    constraints' (``inf``: none known)."""
+    limits = np.array(controller.joint_group.max_acceleration, dtype=float)
+    for constraint in controller.constraints():
+        if constraint.enabled and constraint.kind == "joint_kinematic":
+            columns = constraint.box_columns
+            limits[columns] = np.minimum(limits[columns], constraint.max_acceleration)
+    return limits
+
+
+def braked(command: np.ndarray, limits: np.ndarray, time_step: float) -> np.ndarray:
+    """``command`` [rad/s or m/s] one ``time_step`` [s] of a stop closer to zero: scaled
+    down so that the joint needing the most steps at its ``limits`` brakes at its limit
+    and every joint reaches zero in the same step."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        worst = float(np.max(np.abs(command) / (limits * time_step), initial=0.0))
+    if not math.isfinite(worst) or worst <= 1.0 + 1e-9:
+        return np.zeros_like(command)
+    needed = math.ceil(worst - 1e-9)
+    return command * ((needed - 1) / needed)
+
+
+def _origin(error: BaseException) -> BaseException:
+    """The exception that started ``error``, through the wrappers that name where it
+    was raised."""
+    while isinstance(error, (StepFailed, PartFailed)) and error.__cause__ is not None:
+        error = error.__cause__
+    return error
+
+
+def _text(error: BaseException) -> str:
+    """An exception as one line: its type (unless a RobocopError) and message."""
+    if isinstance(error, RobocopError):
+        return str(error)
+    return f"{type(error).__name__}: {error}" if str(error) else type(error).__name__

@@ -52,6 +52,15 @@ from ..compile.state_graph import join
 from .program import MachineProgram, Program, StateProgram
 
 
+class StepFailed(Exception):
+    """An action or a condition raised; ``where`` names it in the mission's words (the
+    block or clause, the state), the cause is chained."""
+
+    def __init__(self, where: str):
+        super().__init__(where)
+        self.where = where
+
+
 @dataclass(frozen=True)
 class Activation:
     """One entry of the state at ``path``: mission ``time`` [s] and ``cycle`` it was
@@ -215,7 +224,7 @@ class Statechart:
         first."""
         machine = machine or self.program.machine
         state = self.program.states[self._active[machine.path].path]
-        self._run(state.during, state.path, context)
+        self._run(state.during, state.path, context, "during")
         for region in state.machines:
             self.during(context, region)
 
@@ -240,7 +249,12 @@ class Statechart:
         if fired:
             return True
         for clause in chain(state.clauses, machine.guards):
-            if clause.test(context, owner):
+            try:
+                holds = clause.test(context, owner)
+            except Exception as error:  # named for whoever reports it
+                raise StepFailed(f"condition '{clause.text}' of state '{owner.path}'") \
+                    from error
+            if holds:
                 steps.append(self.fire(machine, owner, clause, context))
                 return True
         return False
@@ -254,7 +268,8 @@ class Statechart:
         exited: list = []
         entered: list = []
         self.exit(machine, context, exited)
-        self._run(clause.actions, owner.path, context)
+        self._run(clause.actions, owner.path, context,
+                  f"when {clause.text} -> {clause.target}")
         self.enter(machine, target, context, entered)
         return MicroStep(owner.path, target.path, clause.text, tuple(exited), tuple(entered))
 
@@ -265,7 +280,7 @@ class Statechart:
         for region in reversed(state.machines):
             if region.path in self._active:
                 self.exit(region, context, exited)
-        self._run(state.exit, state.path, context)
+        self._run(state.exit, state.path, context, "exit")
         del self._active[machine.path]
         self._text = None
         exited.append(state.path)
@@ -279,7 +294,7 @@ class Statechart:
         self._text = None
         self._visits[state.path] = self._visits.get(state.path, 0) + 1
         entered.append(state.path)
-        self._run(state.enter, state.path, context)
+        self._run(state.enter, state.path, context, "enter")
         for region in state.machines:
             self.enter_machine(region, context, entered)
         if state.final and machine is self.program.machine:
@@ -291,14 +306,22 @@ class Statechart:
             self._visits[state.path] = 0
         self.enter(machine, machine.states[machine.start], context, entered)
 
-    def _run(self, actions: list, path: str, context) -> None:
-        """Run ``actions`` on behalf of the state at ``path`` (see :attr:`running`)."""
+    def _run(self, actions: list, path: str, context, block: str) -> None:
+        """Run ``actions`` of ``block`` (``enter``, ``during``, ``exit`` or a clause)
+        on behalf of the state at ``path`` (see :attr:`running`); an action that raises
+        comes out as :class:`StepFailed` naming it."""
         if not actions:
             return
         self.running = path
         try:
-            for action in actions:
-                action(context)
+            for index, action in enumerate(actions, 1):
+                try:
+                    action(context)
+                except Exception as error:  # named for whoever reports it
+                    where = (f"{block} action {index} of state '{path}'"
+                             if block in ("enter", "during", "exit") else
+                             f"action {index} of '{block}' in state '{path}'")
+                    raise StepFailed(where) from error
         finally:
             self.running = None
 

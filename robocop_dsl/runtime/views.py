@@ -76,9 +76,15 @@ def _resolve(task, sample, target, poses: dict) -> TaskView:
         return TaskView(task.name, kind, body, error, shown,
                         _in_world(task, sample.reference, frame, None))
     body_pose = poses[task.body_id] if task.kind == "body_orientation" else None
+    parts = (float("nan"), float("nan"))
+    if task.kind == "body_pose":
+        error = task.compute_error(sample.value, sample.goal)
+        angular = list(task.angular_axes)
+        parts = (float(np.linalg.norm(np.delete(error, angular))),
+                 float(np.linalg.norm(error[angular])))
     return TaskView(task.name, kind, body, task.error_norm(sample.value, sample.goal),
                     _in_world(task, sample.goal, frame, body_pose),
-                    _in_world(task, sample.reference, frame, body_pose))
+                    _in_world(task, sample.reference, frame, body_pose), *parts)
 
 
 def _relative(pose: pin.SE3, frame: pin.SE3 | None) -> pin.SE3:

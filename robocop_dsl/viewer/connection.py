@@ -3,12 +3,14 @@ commands over ZeroMQ without ever waiting longer than a timeout."""
 
 from __future__ import annotations
 
+import ipaddress
 import os
 import selectors
 import subprocess
 import sys
 import time
 import weakref
+from urllib.parse import urlsplit
 
 import zmq
 
@@ -19,6 +21,25 @@ DEFAULT_TIMEOUT = 2.0   # [s] for one answer of the server
 START_TIMEOUT = 20.0    # [s] for a new server to report its addresses
 
 
+def zmq_host(zmq_url: str) -> str | None:
+    """The host a ``tcp://HOST:PORT`` address binds (``None`` for a local transport:
+    ``ipc://``, ``inproc://``)."""
+    parts = urlsplit(zmq_url)
+    if parts.scheme in ("ipc", "inproc"):
+        return None
+    return parts.netloc.rpartition(":")[0].strip("[]") or parts.netloc
+
+
+def is_loopback(host: str | None) -> bool:
+    """Whether binding ``host`` (from :func:`zmq_host`) stays on this machine."""
+    if host is None or host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
 class MeshcatServer:
     """A Meshcat server process of our own (:mod:`robocop_dsl.viewer.server`).
 
@@ -27,19 +48,29 @@ class MeshcatServer:
         web_url: The page to open, e.g. ``http://127.0.0.1:7000/static/``.
     """
 
-    def __init__(self, zmq_url: str | None = None, timeout: float = START_TIMEOUT):
+    def __init__(self, zmq_url: str | None = None, timeout: float = START_TIMEOUT,
+                 allow_remote: bool = False):
         """Start the server and wait for its addresses.
 
         Args:
             zmq_url: ZeroMQ address to bind; default: the first free loopback port.
             timeout: How long to wait for the server to come up [s].
+            allow_remote: Allow a ``zmq_url`` beyond loopback (the web page is then
+                served on that address too).
 
         Raises:
-            ViewerConnectionError: the server exited or did not report in time.
+            ViewerConnectionError: a remote ``zmq_url`` not allowed, or the server
+                exited or did not report in time.
         """
         command = [sys.executable, "-m", "robocop_dsl.viewer.server"]
         if zmq_url is not None:
+            if not allow_remote and not is_loopback(zmq_host(zmq_url)):
+                raise ViewerConnectionError(
+                    f"'{zmq_url}' listens beyond this machine: a Meshcat server binds a "
+                    "loopback address unless remote access is allowed", zmq_url)
             command += ["--zmq-url", zmq_url]
+        if allow_remote:
+            command.append("--allow-remote")
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE,
                                         stderr=subprocess.DEVNULL)
         self._finalizer = weakref.finalize(self, _stop_process, self.process)

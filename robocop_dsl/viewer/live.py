@@ -9,6 +9,7 @@ import time
 from typing import Callable
 
 from ..runtime.records import Observer
+from .collisions import CollisionLines
 from .commands import pack_transform
 from .connection import DEFAULT_TIMEOUT, MeshcatConnection, MeshcatServer
 from .errors import ViewerConnectionError
@@ -73,6 +74,8 @@ class LiveViewer(Observer):
         self.web_url = self._connection.web_url
         self._latest = None
         self._drawn = None
+        self._lines: CollisionLines | None = None
+        self._lines_loaded = False
         self._closing = False
         self._stopped = False
         self._wake = threading.Event()
@@ -82,6 +85,9 @@ class LiveViewer(Observer):
                                         daemon=True)
         self._thread.start()
         self._loaded.wait()
+
+    def on_start(self, runner) -> None:
+        self._lines = CollisionLines.of_runner(runner)
 
     def on_cycle(self, record) -> None:
         self._latest = (record, self._moved.update(record))
@@ -155,13 +161,21 @@ class LiveViewer(Observer):
         record, moved = latest
         self._scene.load_new(visualizer, record)
         frame = self._scene.frame(record, moved)
-        for path, pose in frame.poses.items():
+        poses, visibilities = frame.poses, frame.visible
+        if self._lines is not None:
+            if not self._lines_loaded:
+                self._lines.load(visualizer)
+                self._lines_loaded = True
+            lines = self._lines.lines(record.q)
+            poses, visibilities = {**poses, **lines.transforms()}, {**visibilities,
+                                                                     **lines.visible}
+        for path, pose in poses.items():
             full_path = visualizer[path].path.lower()
             data = pack_transform(full_path, pose)
             if sent.get(path) != data:
                 self._connection.send_packed("set_transform", full_path, data)
                 sent[path] = data
-        for path, visible in frame.visible.items():
+        for path, visible in visibilities.items():
             if shown.get(path) != visible:
                 visualizer[path].set_property("visible", visible)
                 shown[path] = visible

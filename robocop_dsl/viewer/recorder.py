@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..runtime.records import Observer
+from .collisions import CollisionLines
 from .commands import CommandLog
 from .geometry import WorldGeometry
 from .options import ViewerOptions
@@ -47,10 +48,13 @@ class ReplayRecorder(Observer):
         self._frames: list = []
         self._previous = None
         self._start: float | None = None
+        self._lines: CollisionLines | None = None
 
     def on_start(self, runner) -> None:
         if self.title is None and runner is not None:
             self.title = f"{runner.name}: robocop-mission replay"
+        if runner is not None:
+            self._lines = CollisionLines.of_runner(runner)
 
     def on_cycle(self, record) -> None:
         current = (record, self._moved.update(record))
@@ -94,19 +98,31 @@ class ReplayRecorder(Observer):
         for record, _ in self._frames:
             scene.load_new(visualizer, record)
         frames = [scene.frame(record, moved) for record, moved in self._frames]
+        scales: list = [{} for _ in frames]
+        if self._lines is not None:
+            self._lines.load(visualizer)
+            for frame, scale, (record, _) in zip(frames, scales, self._frames):
+                lines = self._lines.lines(record.q)
+                frame.poses.update(lines.poses)
+                frame.visible.update(lines.visible)
+                scale.update(lines.scales)
         if frames:
-            _animate(visualizer, frames, self.period)
+            _animate(visualizer, frames, self.period, scales)
         return log.commands
 
 
-def _animate(visualizer, frames: list, period: float) -> None:
+def _animate(visualizer, frames: list, period: float, scales: list) -> None:
     """Send the first frame as plain commands, then one animation with a track for
-    every pose or visibility that changes during the run."""
+    every pose, stretch (``scales``: path -> scale per frame, for collision lines) or
+    visibility that changes during the run."""
     from meshcat.animation import Animation
 
     poses = _pose_series(frames)
+    stretch = _series([{path: np.diag([*scale, 1.0]) for path, scale in s.items()}
+                       for s in scales])
     for path, series in poses.items():
-        visualizer[path].set_transform(series[0])
+        visualizer[path].set_transform(series[0] @ stretch[path][0] if path in stretch
+                                       else series[0])
     for path, visible in frames[0].visible.items():
         visualizer[path].set_property("visible", visible)
     animation = Animation(default_framerate=1.0 / period)
@@ -117,6 +133,11 @@ def _animate(visualizer, frames: list, period: float) -> None:
                 node = animation.at_frame(visualizer, index)[path]
                 node.set_property("position", "vector3", position)
                 node.set_property("quaternion", "quaternion", quaternion)
+    for path, series in stretch.items():
+        if any(not np.array_equal(series[0], scale) for scale in series[1:]):
+            for index, scale in enumerate(series):
+                animation.at_frame(visualizer, index)[path].set_property(
+                    "scale", "vector3", [float(v) for v in np.diag(scale)[:3]])
     for path in frames[-1].visible:
         series = [frame.visible.get(path, False) for frame in frames]
         if any(value != series[0] for value in series[1:]):
@@ -138,14 +159,20 @@ def _position_quaternion(pose: np.ndarray) -> tuple:
 def _pose_series(frames: list) -> dict:
     """Path -> one pose per frame; a marker keeps its last pose while hidden (and its
     first one before it shows up)."""
-    paths = list(dict.fromkeys(path for frame in frames for path in frame.poses))
+    return _series([frame.poses for frame in frames])
+
+
+def _series(values: list) -> dict:
+    """Path -> one value per frame from one mapping per frame; a path keeps its last
+    value where a mapping lacks it (and its first one before it shows up)."""
+    paths = list(dict.fromkeys(path for frame in values for path in frame))
     series = {}
     for path in paths:
-        known = [frame.poses.get(path) for frame in frames]
+        known = [frame.get(path) for frame in values]
         first = next(pose for pose in known if pose is not None)
-        values, last = [], first
+        filled, last = [], first
         for pose in known:
             last = pose if pose is not None else last
-            values.append(last)
-        series[path] = values
+            filled.append(last)
+        series[path] = filled
     return series

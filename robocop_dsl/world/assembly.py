@@ -12,6 +12,7 @@ import numpy as np
 from ..diagnostics import DiagnosticError, did_you_mean
 from .description import ROOT, JointSpec, ModelEntry, WorldDescription
 from .placement import compose, rotation
+from .srdf import disabled_pairs
 from .urdf import DOFS, JointInfo, UrdfModel, read_urdf
 
 
@@ -41,6 +42,8 @@ class Assembly:
     joints: dict = field(default_factory=dict)
     groups: dict = field(default_factory=dict)
     initial: dict = field(default_factory=dict)
+    allowed_collisions: set = field(default_factory=set)
+    """Pairs of bodies (frozensets) never checked for collisions: SRDFs' and the world's."""
 
 
 def assemble(description: WorldDescription) -> Assembly:
@@ -76,10 +79,20 @@ def assemble(description: WorldDescription) -> Assembly:
                 result.bodies[link] = BodyInfo(link, None, None, f"{urdf.path}")
         robot.extend(urdf.elements)
         attachments.append((entry, urdf, where))
+        if entry.srdf is not None:
+            result.allowed_collisions |= disabled_pairs(entry.srdf, entry.prefix, urdf.links,
+                                                        diagnostics)
     for entry, urdf, where in attachments:
         _attach(robot, entry, urdf, where, result, diagnostics)
     result.groups = _resolve_groups(description, result, diagnostics)
     result.initial = _resolve_initial(description, result, diagnostics)
+    for first, second, at in description.allowed_collisions:
+        unknown = [name for name in (first, second) if name not in result.bodies]
+        for name in unknown:
+            diagnostics.append(at.error("unknown-body", f"allowed collision names unknown body "
+                                        f"'{name}'", did_you_mean(name, result.bodies)))
+        if not unknown:
+            result.allowed_collisions.add(frozenset((first, second)))
     if diagnostics:
         raise DiagnosticError(diagnostics)
     result.urdf = ET.tostring(robot, encoding="unicode")

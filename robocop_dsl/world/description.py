@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, Span, did_you_mean
+from ..sources import WORLD, refusal
 from . import paths
 from .yaml_source import YamlList, YamlMap, load_yaml
 
@@ -18,10 +19,10 @@ ROOT = "world"
 JOINT_TYPES = ("fixed", "revolute", "continuous", "prismatic", "floating", "planar")
 _DURATION = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(us|ms|s)\s*$")
 _SECONDS = {"us": 1e-6, "ms": 1e-3, "s": 1.0}
-_MODEL_KEYS = {"include", "path", "namespace", "joint"}
+_MODEL_KEYS = {"include", "path", "namespace", "joint", "srdf"}
 _JOINT_KEYS = {"parent", "type", "axis", "position", "limits", "name"}
 _LIMIT_KEYS = {"lower", "upper", "velocity", "effort"}
-_TOP_KEYS = {"models", "joint_groups", "initial", "processors"}
+_TOP_KEYS = {"models", "joint_groups", "initial", "processors", "allowed_collisions"}
 _PROCESSOR_KEYS = {"type", "options"}
 
 
@@ -52,12 +53,14 @@ class JointSpec:
 
 @dataclass
 class ModelEntry:
-    """One ``path:`` model: a URDF to add with a name prefix and a joint."""
+    """One ``path:`` model: a URDF to add with a name prefix and a joint, and the SRDF
+    whose ``disable_collisions`` pairs are left out of collision checks."""
 
     urdf: Path
     prefix: str
     joint: JointSpec
     at: Located
+    srdf: Path | None = None
 
 
 @dataclass
@@ -88,6 +91,8 @@ class WorldDescription:
     groups: dict = field(default_factory=dict)
     initial: list = field(default_factory=list)
     processors: dict = field(default_factory=dict)
+    allowed_collisions: list = field(default_factory=list)
+    """``(body, body, Located)``: pairs never checked for collisions."""
     diagnostics: list = field(default_factory=list)
 
 
@@ -137,6 +142,7 @@ class _Reader:
         self._groups(source, data.get("joint_groups"), data, prefix)
         self._initial(source, data.get("initial"), data, prefix)
         self._processors(source, data.get("processors"), data, top)
+        self._allowed_collisions(source, data.get("allowed_collisions"), data, prefix)
 
     def _unknown_key(self, source, mapping: YamlMap, key, allowed) -> None:
         self.out.diagnostics.append(source.error(
@@ -184,6 +190,12 @@ class _Reader:
                 "world-not-found", f"cannot find included world file '{name}'",
                 _looked_in(Path(source.path).parent)))
             return
+        refused = refusal(target, WORLD)
+        if refused is not None:
+            self.out.diagnostics.append(at.error(
+                "unreadable-file", f"cannot read included world file '{name}': {refused}",
+                "include a world file (.yaml or .yml) of the project"))
+            return
         if target in stack:
             chain = " -> ".join(p.name for p in stack[stack.index(target):] + (target,))
             self.out.diagnostics.append(at.error(
@@ -200,7 +212,14 @@ class _Reader:
                 "urdf-not-found", f"cannot find URDF '{name}'", _looked_in(Path(source.path).parent)))
             return
         joint = self._joint(source, entry.get("joint"), entry, outer)
-        self.out.models.append(ModelEntry(urdf, inner, joint, at))
+        srdf = None
+        if "srdf" in entry:
+            srdf = paths.resolve(str(entry["srdf"]), Path(source.path).parent)
+            if srdf is None:
+                self.out.diagnostics.append(source.error(
+                    "urdf-not-found", f"cannot find SRDF '{entry['srdf']}'",
+                    entry.value_span("srdf"), _looked_in(Path(source.path).parent)))
+        self.out.models.append(ModelEntry(urdf, inner, joint, at, srdf))
 
     def _joint(self, source, data, entry: YamlMap, outer: str) -> JointSpec:
         spec = JointSpec(parent_at=Located(source, entry.value_span("path")))
@@ -308,6 +327,22 @@ class _Reader:
                     str(name), str(entry["type"]), options, at,
                     Located(source, entry.value_span("type")),
                     Located(source, entry.span("options") if "options" in entry else at.span))
+
+
+    def _allowed_collisions(self, source, pairs, data, prefix) -> None:
+        if pairs is None or not self._expect(source, pairs, YamlList, data,
+                                             "allowed_collisions"):
+            return
+        for index, pair in enumerate(pairs):
+            at = Located(source, pairs.span(index))
+            if (not isinstance(pair, list) or len(pair) != 2
+                    or not all(isinstance(name, str) for name in pair)):
+                self.out.diagnostics.append(at.error(
+                    "invalid-entry", "an allowed collision is a pair of body names",
+                    "for example: [bazar_left_link_7, bazar_left_hankamp_tool_robot_side]"))
+                continue
+            self.out.allowed_collisions.append(
+                (prefixed(prefix, pair[0]), prefixed(prefix, pair[1]), at))
 
 
 def _looked_in(folder: Path) -> str:

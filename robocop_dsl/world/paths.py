@@ -43,12 +43,15 @@ def resolve(name: str, relative_to: Path | None) -> Path | None:
     elif name.startswith("file://"):
         name = name[len("file://"):]
     candidate = Path(name)
-    if candidate.is_absolute():
-        return candidate if candidate.exists() else None
-    for folder in search_folders(relative_to):
-        path = folder / candidate
-        if path.exists():
-            return path.resolve()
+    try:
+        if candidate.is_absolute():
+            return candidate if candidate.exists() else None
+        for folder in search_folders(relative_to):
+            path = folder / candidate
+            if path.exists():
+                return path.resolve()
+    except (OSError, ValueError):  # a name the file system cannot hold is not found
+        return None
     return None
 
 

@@ -4,7 +4,8 @@ and their check when a world loads.
 Kinds: ``duration`` [s] > 0 (``5ms``, ``250us``, ``0.5s`` or a number of seconds),
 ``rate`` [Hz] > 0 (``1kHz``, ``500Hz`` or a number of hertz), ``group`` (a joint group
 or joint of the world), ``solver`` (an installed QP solver), ``choice``, ``flag``
-(true/false), ``port`` (a TCP port) and ``driver`` (a driver processor of the world).
+(true/false), ``port`` (a TCP port), ``driver`` (a driver processor of the world),
+``positive`` and ``non_negative`` (finite numbers > 0 and >= 0).
 
 RoboCoP's own option names are accepted where they mean what this package does, and
 refused with the supported equivalent where they do not (see :data:`ROBOCOP_OPTIONS`).
@@ -87,6 +88,8 @@ PROCESSOR_TYPES = {
         "time_step": Option("duration", required=True),
         "solver": Option("solver", "proxqp"),
         "hierarchy": Option("choice", "strict", choices=("strict", "weighted")),
+        "damping": Option("positive", 1e-6),
+        "lm_damping": Option("non_negative", 1e-2),
         "driver": Option("driver"),
     }, ROBOCOP_OPTIONS, world_only=("driver",)),
     "meshcat": ProcessorType({"period": Option("duration", 0.04)}),
@@ -325,6 +328,18 @@ def _driver_name(value, option, names) -> str:
     return value
 
 
+def _positive(value, option, names) -> float:
+    if not _number(value) or not math.isfinite(value) or value <= 0:
+        raise _Refused(f"must be a number > 0, not {_yaml(value)}")
+    return float(value)
+
+
+def _non_negative(value, option, names) -> float:
+    if not _number(value) or not math.isfinite(value) or value < 0:
+        raise _Refused(f"must be a number >= 0, not {_yaml(value)}")
+    return float(value)
+
+
 def _yaml(value) -> str:
     """``value`` as written in YAML."""
     if isinstance(value, bool):
@@ -333,5 +348,6 @@ def _yaml(value) -> str:
 
 
 _CONVERT = {"duration": _duration, "rate": _rate, "group": _group, "solver": _solver,
-            "choice": _choice, "flag": _flag, "port": _port, "driver": _driver_name}
+            "choice": _choice, "flag": _flag, "port": _port, "driver": _driver_name,
+            "positive": _positive, "non_negative": _non_negative}
 _EXAMPLE = {"joint_group": "NAME", "time_step": "5ms"}

@@ -12,6 +12,7 @@ from xml.parsers import expat
 import numpy as np
 
 from ..diagnostics import SourceFile, Span
+from ..sources import URDF, UnreadableSource, read_source
 from . import paths
 from .description import ROOT, prefixed
 from .placement import IDENTITY
@@ -24,7 +25,8 @@ DOFS = {"fixed": 0, "revolute": 1, "continuous": 1, "prismatic": 1, "floating": 
 class JointInfo:
     """A joint of the world: type, bodies it links and limits (SI: rad or m, rad/s or m/s).
 
-    ``dofs`` counts velocity coordinates; a mimic joint has none of its own.
+    ``dofs`` counts velocity coordinates; a mimic joint has none of its own. A
+    velocity limit of 0 (written by some URDFs for "unknown") counts as none.
     """
 
     name: str
@@ -93,7 +95,7 @@ def joint_info(element: ET.Element, where: str) -> JointInfo:
         lower[:] = float(limit.get("lower", "-inf"))
         upper[:] = float(limit.get("upper", "inf"))
     if limit is not None and limit.get("velocity") and dofs:
-        velocity[:] = float(limit.get("velocity"))
+        velocity[:] = float(limit.get("velocity")) or math.inf
     if mimic is not None:
         kind_dofs = 0
         return JointInfo(element.get("name"), "mimic", element.find("parent").get("link"),
@@ -111,7 +113,11 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
     Problems (malformed XML, unresolved meshes, a tree without a single root) are
     appended to ``diagnostics``; ``None`` is returned when the file is unusable.
     """
-    source = SourceFile.read(path)
+    try:
+        source = read_source(path, URDF)
+    except UnreadableSource as error:
+        diagnostics.extend(error.diagnostics)
+        return None
     try:
         robot = ET.fromstring(source.text)
     except ET.ParseError as error:

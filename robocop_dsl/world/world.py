@@ -7,6 +7,7 @@ import math
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -17,14 +18,18 @@ from .description import WorldDescription, read_description
 from .processors import Names, Processor, check_processors
 from .urdf import JointInfo
 
+if TYPE_CHECKING:
+    from .joint_space import JointSpace
+
 
 @dataclass(frozen=True)
 class JointGroup:
     """An ordered set of joints and their stacked coordinates.
 
-    Limits are per velocity dof, SI (rad, m, rad/s, m/s); ``inf`` where unlimited.
-    ``q_indices``/``v_indices`` locate the group's coordinates in the world's ``q``
-    (size ``model.nq``) and ``v`` (size ``model.nv``).
+    Limits are per velocity dof, SI (rad, m, rad/s, m/s); ``inf`` where unlimited
+    (continuous joints have no position limit). ``q_indices``/``v_indices`` locate the
+    group's coordinates in the world's ``q`` (size ``model.nq``) and ``v`` (size
+    ``model.nv``); ``space`` turns coordinates into positions, one per dof, and back.
     """
 
     name: str
@@ -36,6 +41,11 @@ class JointGroup:
     max_acceleration: np.ndarray
     q_indices: np.ndarray
     v_indices: np.ndarray
+    space: JointSpace | None = None
+
+    def positions(self, q: np.ndarray) -> np.ndarray:
+        """The group's positions [rad or m], one per dof, in the world's ``q``."""
+        return self.space.positions(q[self.q_indices])
 
 
 class World:
@@ -72,11 +82,19 @@ class World:
     def has_group(self, name: str) -> bool:
         return name in self._assembly.groups
 
+    @property
+    def allowed_collisions(self) -> set:
+        """Pairs of bodies (frozensets of names) never checked for collisions: the models'
+        SRDF ``disable_collisions`` and the world's ``allowed_collisions:``."""
+        return self._assembly.allowed_collisions
+
     def controller_names(self) -> list:
         return [p.name for p in self.processors.values() if p.type == "qp_controller"]
 
     def joint_group(self, name: str) -> JointGroup:
         """The group ``name``, or a single joint seen as a group."""
+        from .joint_space import JointSpace
+
         if name in self._assembly.groups:
             joints = self._assembly.groups[name].joints
         elif name in self._assembly.joints:
@@ -87,10 +105,11 @@ class World:
         stack = (lambda attr: np.concatenate([getattr(i, attr) for i in infos])
                  if infos else np.zeros(0))
         dofs = sum(i.dofs for i in infos)
-        q_idx, v_idx = self._indices(tuple(i.name for i in infos))
-        return JointGroup(name, tuple(i.name for i in infos), dofs, stack("lower"),
-                          stack("upper"), stack("max_velocity"), np.full(dofs, math.inf),
-                          q_idx, v_idx)
+        names = tuple(i.name for i in infos)
+        q_idx, v_idx = self._indices(names)
+        return JointGroup(name, names, dofs, stack("lower"), stack("upper"),
+                          stack("max_velocity"), np.full(dofs, math.inf), q_idx, v_idx,
+                          JointSpace(self.model, names))
 
     def _indices(self, joints: tuple) -> tuple:
         if not joints:
@@ -144,16 +163,17 @@ class World:
         return pin.neutral(self.model)
 
     def initial_configuration(self) -> np.ndarray:
-        """The neutral configuration with the world's ``initial:`` postures applied."""
-        q = self.neutral_configuration()
+        """The neutral configuration with the world's ``initial:`` postures applied:
+        each posture is a joint's positions, one per dof (an angle for a continuous
+        joint, a motion from the origin for a floating one)."""
+        import pinocchio as pin
+
         model = self.model
+        motion = np.zeros(model.nv)
         for name, values in self._assembly.initial.items():
             joint = model.joints[model.getJointId(name)]
-            if joint.nq == joint.nv:
-                q[joint.idx_q:joint.idx_q + joint.nq] = values
-            elif joint.nv == 1:
-                q[joint.idx_q:joint.idx_q + 2] = [math.cos(values[0]), math.sin(values[0])]
-        return q
+            motion[joint.idx_v:joint.idx_v + joint.nv] = values
+        return pin.integrate(model, self.neutral_configuration(), motion)
 
     def body_pose(self, name: str, q: np.ndarray):
         """Pose of body ``name`` in the world frame at configuration ``q`` (``pin.SE3``)."""

@@ -24,8 +24,10 @@ class JointKinematicConstraint(Constraint):
       which the joint can still stop before ``max_position`` braking at half of
       ``max_acceleration`` in steps of ``dt``; likewise towards ``min_position``.
 
-    A joint outside its position range is driven back as fast as its velocity limit
-    allows. When the acceleration bound conflicts with the others (e.g. after the
+    Velocity and acceleration limits never exceed the world's (the URDF's): a larger
+    value given here is lowered to it. A continuous joint has no position limit by
+    default; its position is its angle in (-pi, pi]. A joint outside its position
+    range is driven back as fast as its velocity limit allows. When the acceleration bound conflicts with the others (e.g. after the
     state jumped), the velocity closest to ``prev`` within the others is taken.
 
     Args:
@@ -34,9 +36,9 @@ class JointKinematicConstraint(Constraint):
         group: The joint group (inside the controlled group).
         min_position: Lower positions [rad or m]; default the URDF's.
         max_position: Upper positions [rad or m]; default the URDF's.
-        max_velocity: Speed limits [rad/s or m/s]; default the URDF's.
-        max_acceleration: Acceleration limits [rad/s^2 or m/s^2]; default the world's
-            (``inf`` when unknown: no acceleration bound).
+        max_velocity: Speed limits [rad/s or m/s]; default and at most the URDF's.
+        max_acceleration: Acceleration limits [rad/s^2 or m/s^2]; default and at most
+            the world's (``inf`` when unknown: no acceleration bound).
     """
 
     kind = "joint_kinematic"
@@ -45,16 +47,16 @@ class JointKinematicConstraint(Constraint):
                  max_position=None, max_velocity=None, max_acceleration=None):
         super().__init__(name, state)
         self.group, self.box_columns = state.group_columns(group)
-        self._group_positions = state.q_indices[self.box_columns]
         self._time_step = None
         self._jacobian = np.eye(state.dofs)[self.box_columns]
         group_ = self.group
+        self._velocity_bound = self._vector("max_velocity", group_.max_velocity)
+        self._acceleration_bound = self._vector("max_acceleration", group_.max_acceleration)
         self.min_position = group_.lower if min_position is None else min_position
         self.max_position = group_.upper if max_position is None else max_position
         self.max_velocity = group_.max_velocity if max_velocity is None else max_velocity
-        acceleration = getattr(group_, "max_acceleration", None)
-        self.max_acceleration = (np.inf if acceleration is None else acceleration) \
-            if max_acceleration is None else max_acceleration
+        self.max_acceleration = (group_.max_acceleration if max_acceleration is None
+                                 else max_acceleration)
 
     def _vector(self, name: str, value, minimum=None) -> np.ndarray:
         return vector_parameter(self.label, name, value, len(self.box_columns),
@@ -82,22 +84,24 @@ class JointKinematicConstraint(Constraint):
 
     @property
     def max_velocity(self) -> np.ndarray:
-        """Speed limits [rad/s or m/s]."""
+        """Speed limits [rad/s or m/s], the world's where those are lower."""
         return self._max_velocity
 
     @max_velocity.setter
     def max_velocity(self, value) -> None:
-        self._max_velocity = self._vector("max_velocity", value, minimum=0.0)
+        self._max_velocity = np.minimum(self._vector("max_velocity", value, minimum=0.0),
+                                        self._velocity_bound)
         self._time_step = None
 
     @property
     def max_acceleration(self) -> np.ndarray:
-        """Acceleration limits [rad/s^2 or m/s^2]."""
+        """Acceleration limits [rad/s^2 or m/s^2], the world's where those are lower."""
         return self._max_acceleration
 
     @max_acceleration.setter
     def max_acceleration(self, value) -> None:
-        self._max_acceleration = self._vector("max_acceleration", value, minimum=0.0)
+        self._max_acceleration = np.minimum(
+            self._vector("max_acceleration", value, minimum=0.0), self._acceleration_bound)
         self._time_step = None
 
     @property
@@ -113,7 +117,7 @@ class JointKinematicConstraint(Constraint):
             self._prepare(dt)
         # Upper bounds first, then the negated lower bounds: one vector for both sides.
         signs, zeros = self._signs, self._zeros
-        distance = signs * state.q[self._positions]
+        distance = signs * state.group_positions[self._positions]
         np.subtract(self._limits, distance, out=distance)
         reach = distance * self._rate
         if self._braking is not None:
@@ -155,7 +159,7 @@ class JointKinematicConstraint(Constraint):
         finite = np.isfinite(acceleration)
         self._time_step = dt
         self._count = count
-        self._positions = np.tile(self._group_positions, 2)
+        self._positions = np.tile(self.box_columns, 2)
         self._columns = np.tile(self.box_columns, 2)
         self._signs = np.concatenate((np.ones(count), -np.ones(count)))
         self._zeros = np.zeros(2 * count)

@@ -20,8 +20,10 @@ class ProxqpSolver(QPSolver):
     Args:
         eps_abs: Absolute tolerance on primal and dual residuals.
         max_iter: Iteration limit (reaching it is a failure).
-        eps_infeasible: Threshold of ProxQP's primal infeasibility certificate; the
-            default 1e-4 flags feasible problems of this scale as infeasible.
+        eps_infeasible: Threshold of ProxQP's primal and dual infeasibility
+            certificates; ProxQP's default 1e-4 flags feasible problems of this scale
+            as infeasible, and near-singular strictly convex ones (a damping of 1e-6
+            along a singular direction) as unbounded.
     """
 
     name = "proxqp"
@@ -69,6 +71,7 @@ class ProxqpSolver(QPSolver):
                 settings.eps_rel = 0.0
                 settings.max_iter = self.max_iter
                 settings.eps_primal_inf = self.eps_infeasible
+                settings.eps_dual_inf = self.eps_infeasible
                 qp.init(*self._arguments)
                 self._qp, self._size = qp, size
                 qp.solve()

@@ -49,7 +49,11 @@ class Task(ABC):
             for position-like tasks and no correction for velocity tasks.
         weight: Scalar or per-axis weight [-], non-negative.
         priority: Priority level, 0 the highest (used by the strict hierarchy).
-        gain: Shortcut setting the feedback loop's proportional gain [1/s].
+        gain: Shortcut setting the feedback loop's proportional gain [1/s], scalar or
+            per axis.
+        tolerance: When the task counts as :attr:`reached`, one positive number per
+            part of :meth:`tolerance_errors` (a scalar is broadcast); default
+            :meth:`default_tolerance`.
     """
 
     kind = "task"
@@ -58,7 +62,7 @@ class Task(ABC):
 
     def __init__(self, name: str, state: ControlState, dimension: int, *, target=None,
                  interpolator=None, feedback=None, weight=1.0, priority: int = 0,
-                 gain=None):
+                 gain=None, tolerance=None):
         self.name = name
         self.state = state
         self.dimension = dimension
@@ -68,6 +72,9 @@ class Task(ABC):
         self._chart = VectorChart()
         self._reference = None
         self._sample: tuple | None = None
+        self.tracking_error = np.zeros(dimension)
+        """The error from the current value to this cycle's reference, in velocity
+        coordinates [task units]; what the feedback loop corrects."""
         self._interpolator: Interpolator
         self._feedback: FeedbackLoop
         self.set_interpolator(interpolator)
@@ -77,6 +84,7 @@ class Task(ABC):
             self.gain = gain
         self.weight = weight
         self.priority = priority
+        self.tolerance = self.default_tolerance() if tolerance is None else tolerance
         self.target = target
 
     @abstractmethod
@@ -111,7 +119,8 @@ class Task(ABC):
         if interpolator.passthrough:
             self._reference = goal
             self._sample = (state.kinematics.stamp, value, goal, goal)
-            correction = self._feedback.compute(self.compute_error(value, goal))
+            self.tracking_error = self.compute_error(value, goal)
+            correction = self._feedback.compute(self.tracking_error)
             return jacobian, goal + correction if self.order else correction
         chart = self._chart
         interpolator.target = chart.to_vector(goal)
@@ -120,8 +129,8 @@ class Task(ABC):
         feedforward = chart.velocity(position, rate) if self.order == 0 else position
         self._reference = reference
         self._sample = (state.kinematics.stamp, value, goal, reference)
-        error = self.compute_error(value, reference)
-        return jacobian, feedforward + self._feedback.compute(error)
+        self.tracking_error = self.compute_error(value, reference)
+        return jacobian, feedforward + self._feedback.compute(self.tracking_error)
 
     def _start(self, state: ControlState, jacobian: np.ndarray, value) -> None:
         self._restart = False
@@ -277,9 +286,37 @@ class Task(ABC):
         return self._reference
 
     @property
-    def reached(self) -> bool:
+    def tolerance(self) -> np.ndarray:
+        """When the task counts as reached: a bound on each part of
+        :meth:`tolerance_errors` [task units]."""
+        return self._tolerance
+
+    @tolerance.setter
+    def tolerance(self, value) -> None:
+        self._tolerance = vector_parameter(self.label, "tolerance", value,
+                                           len(self.default_tolerance()), minimum=0.0,
+                                           strict=True)
+
+    def default_tolerance(self) -> np.ndarray:
+        """Hook: the default :attr:`tolerance`; 0.5 deg [rad] per coordinate (per
+        second for velocity tasks)."""
+        return np.full(self.dimension, np.radians(0.5))
+
+    def tolerance_errors(self) -> np.ndarray:
+        """Hook: the parts of the error the :attr:`tolerance` bounds, at the latest
+        state; by default each coordinate's magnitude (NaN before any state)."""
+        return np.abs(self.error_vector())
+
+    @property
+    def interpolated(self) -> bool:
         """Whether the task is enabled and its interpolator has finished."""
         return self._enabled and not self._restart and self._interpolator.finished
+
+    @property
+    def reached(self) -> bool:
+        """Whether the task is :attr:`interpolated` and every part of its error is within
+        its :attr:`tolerance`."""
+        return self.interpolated and bool(np.all(self.tolerance_errors() <= self._tolerance))
 
     def sample(self) -> TaskSample:
         """The task at the latest state: what the controller computed for it, or,
@@ -328,7 +365,8 @@ class Task(ABC):
         """The task's parameters by name."""
         return {"target": self._target, "interpolator": self._interpolator,
                 "feedback": self._feedback, "weight": self._weight,
-                "priority": self._priority, "gain": self.gain}
+                "priority": self._priority, "gain": self.gain,
+                "tolerance": self._tolerance}
 
     def describe(self) -> str:
         """What the task acts on, for ``repr``."""

@@ -69,6 +69,22 @@ class BodyTask(Task):
         """The body's pose in the reference frame."""
         return state.pose(self.body_id, self.reference_id)
 
+    def _parts(self) -> tuple[bool, bool]:
+        """Whether the task has a linear part and an angular part."""
+        return self.dimension > len(self.angular_axes), bool(self.angular_axes)
+
+    def default_tolerance(self) -> np.ndarray:
+        """1 mm (or 1 mm/s) for the linear part, 1 deg (or 1 deg/s) for the angular
+        part, for those the task has."""
+        linear, angular = self._parts()
+        return np.array([1e-3] * linear + [np.radians(1.0)] * angular)
+
+    def tolerance_errors(self) -> np.ndarray:
+        """:attr:`position_error` [m or m/s] and :attr:`orientation_error` [rad or
+        rad/s], for the parts the task has."""
+        linear, angular = self._parts()
+        return np.array([self.position_error] * linear + [self.orientation_error] * angular)
+
     def describe(self) -> str:
         return f"body={self.body!r}, reference={self.reference!r}, "
 

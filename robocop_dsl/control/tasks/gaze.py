@@ -124,6 +124,14 @@ class GazeTask(BodyTask):
         """The angle off the watched point [rad] (see :attr:`angle`)."""
         return self.angle
 
+    def default_tolerance(self) -> np.ndarray:
+        """1 deg [rad] off the watched point."""
+        return np.array([np.radians(1.0)])
+
+    def tolerance_errors(self) -> np.ndarray:
+        """The :attr:`angle` [rad]."""
+        return np.array([self.angle])
+
     def describe(self) -> str:
         return (f"body={self.body!r}, axis={self.axis!r}, reference={self.reference!r}, "
                 f"watching={self._watched!r}, ")

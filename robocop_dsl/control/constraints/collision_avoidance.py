@@ -1,0 +1,254 @@
+"""The ``collision_avoidance`` constraint: keep the collision geometry of two sets of
+bodies at least ``min_distance`` apart with a velocity damper.
+
+For every pair of shapes closer than ``influence`` (witness points ``p1``, ``p2`` and
+unit normal ``n`` from the first to the second, from coal), the distance ``d`` may
+only shrink as fast as ``damping * (d - min_distance)``::
+
+    n . (v(p2) - v(p1)) >= -damping * (d - min_distance)
+
+with ``v(p) = J_v dq + w x (p - o)`` the velocity of the witness point carried by its
+body (frame origin ``o``, Jacobians of that body). In discrete time the gap to
+``min_distance`` then shrinks by at most the factor ``1 - damping * dt`` per cycle, so
+it is never crossed (up to the distance's curvature over one cycle); a pair already
+closer than ``min_distance`` is pushed apart at that rate. Where the distance is not
+smooth (a face parallel to another: the closest points jump from corner to corner) the
+damper could ask for a velocity jump; the pair is then asked to brake to a stop at
+``min_distance`` instead. Such a face held against another rocks a little from corner to
+corner: it may sink below ``min_distance`` by a fraction of a millimetre.
+
+Pairs beyond ``influence`` cost nothing: a broad phase on bounding boxes (see
+:class:`~robocop_dsl.world.collisions.CollisionScene`) hands coal only the pairs that
+may be close, and the constraint has rows for those alone. The row count is sized from
+the pairs whose boxes are within 1.5 ``influence``, so that it grows before a pair
+comes within influence; it shrinks when half of its rows stay unused. Unused rows are
+zero with infinite bounds.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...world.collisions import CollisionScene, Witness, checked_pairs
+from ..exceptions import InvalidParameter, UnknownName
+from ..parameters import scalar_parameter
+from ..state import ControlState
+from .base import Constraint
+
+_ROW_CHUNK = 4
+"""Rows are added and removed in multiples of this, to rebuild the QP seldom."""
+_AHEAD = 1.5
+"""Pairs whose bounding boxes are within this many ``influence`` get a row ready."""
+
+
+class CollisionAvoidanceConstraint(Constraint):
+    """Keeps the collision shapes of set ``first`` and set ``other`` apart.
+
+    A set is a body, or a joint group (or joint) standing for every body its joints
+    move; ``other`` defaults to ``first`` (the set against itself). Pairs of adjacent
+    bodies, pairs the world allows and pairs no joint moves apart are left out
+    (:func:`~robocop_dsl.world.collisions.checked_pairs`), and so are pairs that the
+    controlled joints cannot move apart.
+
+    Args:
+        name: The constraint's name.
+        state: The controller's state.
+        first: The first set.
+        other: The second set (default ``first``).
+        min_distance: Smallest distance allowed between two shapes [m].
+        influence: Distance below which a pair is constrained [m], above ``min_distance``.
+        damping: Rate at which the gap to ``min_distance`` may close [1/s].
+
+    Raises:
+        UnknownName: a set names nothing in the world.
+        InvalidParameter: a parameter out of range.
+    """
+
+    kind = "collision_avoidance"
+
+    def __init__(self, name: str, state: ControlState, first: str, *, other: str | None = None,
+                 min_distance: float = 0.01, influence: float = 0.1, damping: float = 5.0):
+        super().__init__(name, state)
+        world = state.world
+        other = first if other is None else other
+        self.first, self.other = first, other
+        for subject in (first, other):
+            if not (world.has_body(subject) or world.has_group(subject)
+                    or subject in world.joint_names()):
+                raise UnknownName("body or joint group", subject,
+                                  world.body_names() + world.group_names())
+        driven = {int(v) for v in state.v_indices}
+        model = world.model
+        pairs = [pair for pair in checked_pairs(world, first, other)
+                 if any(_driven_by(model, world.body_frame_id(body), driven) for body in pair)]
+        self.scene = CollisionScene(world, pairs)
+        self._frames = {shape.name: world.body_frame_id(shape.body)
+                        for shape in self.scene.shapes}
+        self._min_distance, self._influence = 0.0, np.inf
+        self.influence = influence
+        self.min_distance = min_distance
+        self.damping = damping
+        self.witnesses: list[Witness] = []
+        """The shape pairs within influence at the last cycle, closest first."""
+        self._stamp, self._written = -1, (-1, -1)
+        self._wanted = 0
+        self._size = 0
+        self._jacobian = np.zeros((0, state.dofs))
+        self._lower = np.zeros(0)
+        self._upper = np.zeros(0)
+
+    @property
+    def min_distance(self) -> float:
+        """Smallest distance allowed between two shapes [m]."""
+        return self._min_distance
+
+    @min_distance.setter
+    def min_distance(self, value) -> None:
+        value = scalar_parameter(self.label, "min_distance", value, minimum=0.0)
+        if value >= self._influence:
+            raise InvalidParameter(self.label, "min_distance", value,
+                                   f"a distance below influence ({self._influence:g} m)")
+        self._min_distance = value
+        self._stamp, self._written = -1, (-1, -1)
+
+    @property
+    def influence(self) -> float:
+        """Distance below which a pair is constrained [m]."""
+        return self._influence
+
+    @influence.setter
+    def influence(self, value) -> None:
+        value = scalar_parameter(self.label, "influence", value, minimum=0.0, strict=True)
+        if value <= self._min_distance:
+            raise InvalidParameter(self.label, "influence", value,
+                                   f"a distance above min_distance ({self._min_distance:g} m)")
+        self._influence = value
+        self._stamp, self._written = -1, (-1, -1)
+
+    @property
+    def damping(self) -> float:
+        """Rate at which the gap to ``min_distance`` may close [1/s]."""
+        return self._damping
+
+    @damping.setter
+    def damping(self, value) -> None:
+        value = scalar_parameter(self.label, "damping", value, minimum=0.0, strict=True)
+        if value * self.state.time_step >= 1.0:
+            raise InvalidParameter(self.label, "damping", value,
+                                   f"less than 1 / time step ({1 / self.state.time_step:g} 1/s)")
+        self._damping = value
+        self._stamp, self._written = -1, (-1, -1)
+
+    @property
+    def pairs_checked(self) -> int:
+        """Number of shape pairs the constraint watches."""
+        return self.scene.size
+
+    @property
+    def rows(self) -> int:
+        self._update(self.state)
+        self._size = self._wanted
+        return self._size
+
+    def _update(self, state: ControlState) -> None:
+        """Place the shapes at the current state and find the pairs within influence
+        (once per state); decide the row count the next plan should have."""
+        kinematics = state.kinematics
+        if self._stamp == kinematics.stamp:
+            return
+        self._stamp = kinematics.stamp
+        scene = self.scene
+        scene.place(kinematics)
+        boxes = scene.box_distances()
+        if not scene.size or boxes.min() >= _AHEAD * self._influence:
+            self.witnesses, wanted = [], 0
+        else:
+            near = np.flatnonzero(boxes < self._influence)
+            witnesses = [scene.witness(index) for index in near]
+            self.witnesses = sorted((w for w in witnesses if w.distance < self._influence),
+                                    key=lambda w: w.distance)
+            ahead = int(np.count_nonzero(boxes < _AHEAD * self._influence))
+            wanted = _ROW_CHUNK * math.ceil(ahead / _ROW_CHUNK)
+        if wanted > self._size or 2 * wanted <= self._size:
+            self._wanted = wanted
+            if wanted != self._size:
+                state.revision += 1
+
+    def _write_rows(self, state: ControlState) -> None:
+        """The rows of the pairs within influence, closest first, in :attr:`rows` rows."""
+        self._update(state)
+        if self._written == (self._stamp, self._size):
+            return
+        self._written = (self._stamp, self._size)
+        size = self._size
+        if self._jacobian.shape[0] != size:
+            self._jacobian = np.zeros((size, state.dofs))
+            self._lower = np.full(size, -np.inf)
+            self._upper = np.full(size, np.inf)
+        jacobian, lower = self._jacobian, self._lower
+        jacobian.fill(0.0)
+        lower.fill(-np.inf)
+        kinematics = state.kinematics
+        for row, witness in enumerate(self.witnesses[:size]):
+            normal = witness.normal
+            for shape, point, sign in ((witness.first, witness.point_first, -1.0),
+                                       (witness.second, witness.point_second, 1.0)):
+                frame = self._frames[shape.name]
+                if kinematics.is_fixed(frame):
+                    continue
+                body_jacobian = state.jacobian(frame)
+                x, y, z = point - kinematics.pose(frame).translation
+                a, b, c = normal
+                moment = np.array((y * c - z * b, z * a - x * c, x * b - y * a))
+                jacobian[row] += sign * (normal @ body_jacobian[:3] + moment @ body_jacobian[3:])
+            lower[row] = self._bound(witness.distance - self._min_distance,
+                                     float(jacobian[row] @ state.velocity))
+
+    def _bound(self, gap: float, rate: float) -> float:
+        """Lower bound of a pair's distance rate [m/s] at ``gap`` [m] from
+        ``min_distance``, when the current velocity gives it ``rate`` [m/s].
+
+        The damper's bound; but when the closest points just jumped (a face of one shape
+        came parallel to the other: the distance is not smooth there) and the pair already
+        closes faster than the damper allows, a velocity jump would be needed: the bound
+        then only asks to brake to a stop at ``min_distance`` (``rate^2 / (2 gap)``).
+        """
+        damper = -self._damping * gap
+        if gap <= 0.0 or rate >= damper:
+            return damper
+        return min(damper, rate + self.state.time_step * rate * rate / (2.0 * gap))
+
+    def compute_jacobian(self, state: ControlState) -> np.ndarray:
+        self._write_rows(state)
+        return self._jacobian
+
+    def compute_bounds(self, state: ControlState) -> tuple[np.ndarray, np.ndarray]:
+        self._write_rows(state)
+        return self._lower, self._upper
+
+    def parameters(self) -> dict:
+        return {"other": self.other, "min_distance": self._min_distance,
+                "influence": self._influence, "damping": self._damping}
+
+    def configure(self, **parameters) -> None:
+        allowed = ["min_distance", "influence", "damping"]
+        unknown = set(parameters) - set(allowed)
+        if unknown:
+            raise UnknownName("parameter of collision_avoidance", sorted(unknown)[0], allowed)
+        super().configure(**parameters)
+
+    def describe(self) -> str:
+        return f"first={self.first!r}, "
+
+
+def _driven_by(model, frame: int, columns: set) -> bool:
+    """Whether one of the velocity coordinates ``columns`` moves frame ``frame``."""
+    joint = model.frames[frame].parentJoint
+    while joint > 0:
+        start = model.joints[joint].idx_v
+        if any(v in columns for v in range(start, start + model.joints[joint].nv)):
+            return True
+        joint = model.parents[joint]
+    return False

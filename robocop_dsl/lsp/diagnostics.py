@@ -1,0 +1,75 @@
+"""The checker's diagnostics as the protocol's: code, range, hint, and as related
+information the places they name (the first declaration of a duplicate, the behaviour
+instance that exposed a problem). A problem in another file (an imported one, the
+world) is shown on the statement that brings that file in."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from lsprotocol import types
+
+from ..diagnostics import Diagnostic, Span
+from ..lang import ast
+from .positions import location, to_range
+from .project import Project
+
+SOURCE = "robocop-mission"
+_AT_FILE = re.compile(r"([\w./\\-]+\.(?:mission|yaml|urdf)):(\d+)(?::(\d+))?")
+_AT_LINE = re.compile(r"\bline (\d+)\b")
+
+
+def _places(text: str, file: Path) -> list[tuple[Path, Span]]:
+    """The places a note or hint names: ``FILE:LINE[:COL]``, or ``line N`` of
+    ``file``, the one the diagnostic is in."""
+    found = [(Path(m.group(1)).resolve(), Span.point(int(m.group(2)), int(m.group(3) or 1)))
+             for m in _AT_FILE.finditer(text)]
+    return found + [(file, Span.point(int(m.group(1)))) for m in _AT_LINE.finditer(text)]
+
+
+def _related(diagnostic: Diagnostic, file: Path) -> list:
+    related = []
+    for note in diagnostic.notes:
+        places = _places(note, file) or [(file, diagnostic.span)]
+        related += [types.DiagnosticRelatedInformation(location(p, s), note) for p, s in places]
+    if diagnostic.hint:
+        related += [types.DiagnosticRelatedInformation(location(p, s), diagnostic.hint)
+                    for p, s in _places(diagnostic.hint, file)]
+    return related
+
+
+def _carrier(project: Project, path: Path, file: Path) -> Span | None:
+    """The statement of ``path`` that brings ``file`` in: the import whose files reach
+    it, else the world declaration."""
+    parsed = project.parsed(path)
+    if parsed is None:
+        return None
+    for statement, imported in parsed.imports():
+        if any(p.path == file for p in project.closure(imported)):
+            return statement.path.span
+    world = parsed.tree.first(ast.WorldDecl)
+    return world.path.span if world is not None else None
+
+
+def convert(project: Project, path: Path, diagnostic: Diagnostic) -> types.Diagnostic:
+    """One checker diagnostic of the mission at ``path`` as a protocol diagnostic."""
+    file = Path(diagnostic.file).resolve() if diagnostic.file else path
+    message = diagnostic.message + (f"\nhint: {diagnostic.hint}" if diagnostic.hint else "")
+    related = _related(diagnostic, file)
+    span = diagnostic.span
+    if file != path:
+        message = f"{diagnostic.location()}: {message}"
+        related.insert(0, types.DiagnosticRelatedInformation(location(file, span),
+                                                             diagnostic.message))
+        span = _carrier(project, path, file)
+    severity = (types.DiagnosticSeverity.Error if diagnostic.is_error
+                else types.DiagnosticSeverity.Warning)
+    return types.Diagnostic(range=to_range(span), message=message, severity=severity,
+                            code=diagnostic.code, source=SOURCE,
+                            related_information=related or None)
+
+
+def diagnostics(project: Project, path: Path) -> list[types.Diagnostic]:
+    """Every diagnostic ``robocop-mission check`` gives for the current text of ``path``."""
+    return [convert(project, path, d) for d in project.check(path).diagnostics]

@@ -1,0 +1,108 @@
+"""The collision_avoidance constraint on the real BAZAR: rows only for the pairs near,
+rows that are the distance's derivative, the damper's bound, parameter checks."""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from robocop_dsl.control import Controller
+from robocop_dsl.control.exceptions import InvalidParameter, UnknownName
+from robocop_dsl.control.kinematics import Kinematics
+from robocop_dsl.world.collisions import CollisionScene
+
+GROUP = "bazar_upper_joints"
+
+
+def _constraint(world, first="bazar_arms", other="workbench", **parameters):
+    controller = Controller(world, GROUP, 0.005)
+    return controller, controller.add_constraint("collision_avoidance", "clear", first,
+                                                 other=other, **parameters)
+
+
+def _bent(world):
+    """The left arm folded so that its tool comes close to its own upper arm."""
+    q = world.initial_configuration()
+    q[world.joint_group("bazar_left_arm").q_indices] = [0, 0.6, 0, -2.0, 0, -1.6, 0]
+    return q
+
+
+def test_nothing_near_costs_no_row(bazar):
+    controller, constraint = _constraint(bazar)
+    controller.update_state(bazar.initial_configuration())
+    assert constraint.rows == 0 and constraint.witnesses == []
+    assert constraint.pairs_checked == 14
+
+
+def test_rows_are_the_derivative_of_the_distance(bazar):
+    controller, constraint = _constraint(bazar, "bazar_left_arm", "bazar_left_arm",
+                                         min_distance=0.01, influence=0.15)
+    q = _bent(bazar)
+    controller.update_state(q)
+    assert constraint.rows >= len(constraint.witnesses) >= 1
+    jacobian = constraint.compute_jacobian(controller.state)
+    lower, upper = constraint.compute_bounds(controller.state)
+    assert np.all(np.isinf(upper))
+    scene = CollisionScene(bazar, [(w.first.body, w.second.body) for w in constraint.witnesses])
+    kinematics = Kinematics(bazar)
+    group = controller.state.group
+    rng = np.random.default_rng(1)
+    for row, witness in enumerate(constraint.witnesses):
+        index = next(i for i in range(scene.size)
+                     if (scene.shapes[scene.first[i]].name, scene.shapes[scene.second[i]].name)
+                     == (witness.first.name, witness.second.name))
+        velocity = rng.normal(size=group.dofs)
+        step = 1e-3     # coal's GJK gives curved shapes' distances to about 1e-7 m
+
+        def distance(sign):
+            moved = q.copy()
+            moved[group.q_indices] += sign * step * velocity
+            kinematics.update(moved)
+            scene.place(kinematics)
+            return scene.witness(index).distance
+
+        rate = (distance(1) - distance(-1)) / (2 * step)
+        assert jacobian[row] @ velocity == pytest.approx(rate, rel=0.01, abs=1e-3)
+        assert lower[row] == pytest.approx(-5.0 * (witness.distance - 0.01))
+    assert np.all(np.isneginf(lower[len(constraint.witnesses):]))
+    assert not np.any(jacobian[len(constraint.witnesses):])
+
+
+def test_a_pair_closing_faster_than_the_damper_brakes_to_a_stop(bazar):
+    _, constraint = _constraint(bazar, damping=4.0)
+    gap, dt = 0.03, 0.005
+    assert constraint._bound(gap, -0.05) == pytest.approx(-4.0 * gap)
+    fast = -0.3
+    assert constraint._bound(gap, fast) == pytest.approx(fast + dt * fast ** 2 / (2 * gap))
+    assert constraint._bound(-0.002, fast) == pytest.approx(4.0 * 0.002)
+
+
+def test_parameters_are_checked(bazar):
+    controller, constraint = _constraint(bazar, min_distance=0.15, influence=0.3)
+    assert (constraint.min_distance, constraint.influence) == (0.15, 0.3)
+    with pytest.raises(InvalidParameter, match="below influence"):
+        constraint.min_distance = 0.4
+    with pytest.raises(InvalidParameter, match="1 / time step"):
+        constraint.damping = 300.0
+    with pytest.raises(UnknownName, match="did you mean 'bazar_arms'"):
+        controller.add_constraint("collision_avoidance", "other", "bazar_armz")
+    constraint.configure(damping=2.0, influence=0.2)
+    assert constraint.parameters() == {"other": "workbench", "min_distance": 0.15,
+                                       "influence": 0.2, "damping": 2.0}
+
+
+def test_an_attached_body_carries_its_shapes(bazar):
+    world = bazar.copy()
+    controller = Controller(world, GROUP, 0.005)
+    constraint = controller.add_constraint("collision_avoidance", "part", "part_body",
+                                           other="bazar_right_arm", influence=0.2)
+    q = world.initial_configuration()
+    controller.update_state(q)
+    scene = constraint.scene
+    scene.place(controller.kinematics)
+    assert scene.clearance() > 0.3
+    tool = "bazar_right_hankamp_tool_object_side"
+    # the 4 cm cube centred 8 cm beyond the tip of the tool's 14 cm long box
+    controller.kinematics.place("part_body", tool, pin.SE3(np.eye(3), np.array([0, 0, 0.08])))
+    controller.kinematics.update(q)
+    scene.place(controller.kinematics)
+    assert scene.clearance() == pytest.approx(0.06, abs=1e-6)

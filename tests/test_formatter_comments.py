@@ -1,0 +1,67 @@
+"""Formatting a mission's text keeps every comment, where its reader expects it."""
+
+from pathlib import Path
+
+import pytest
+
+from robocop_dsl.lang import parse_mission
+from robocop_dsl.lang.formatter import comments, format_source
+
+REPO = Path(__file__).resolve().parent.parent
+MISSIONS = sorted((REPO / "missions").glob("*.mission")) + sorted(
+    (REPO / "tests" / "fixtures" / "composite").glob("*.mission"))
+
+
+def formatted(text: str) -> str:
+    parsed = parse_mission(text)
+    assert parsed.ok, [d.render() for d in parsed.diagnostics]
+    return format_source(parsed.mission, text)
+
+
+@pytest.mark.parametrize("path", MISSIONS, ids=lambda p: p.name)
+def test_round_trip_keeps_comments(path):
+    """Every comment survives, in order; the tree is unchanged; formatting is idempotent."""
+    text = path.read_text(encoding="utf-8")
+    out = formatted(text)
+    assert [c.text for c in comments(out)] == [c.text for c in comments(text)]
+    assert parse_mission(out).mission == parse_mission(text).mission
+    assert formatted(out) == out
+
+
+def test_missions_have_comments_to_keep():
+    """The round trip above is not vacuous: the shipped missions hold comments of both
+    kinds."""
+    found = [c for path in MISSIONS for c in comments(path.read_text(encoding="utf-8"))]
+    assert any(c.after_code for c in found) and any(not c.after_code for c in found)
+
+
+def test_placement():
+    """Own-line comments precede the statement after them (indented like it, or one
+    level deeper before a closing brace); comments after code end that statement's
+    line; a comment at the end of the file stays last."""
+    text = ('# the header\nmission m "d"   # named m\nworld "w.yaml"\n\n'
+            "task t : body_pose( b ) {   # the tool\n# its gain\ngain=2.50\n"
+            "  # nothing after\n}\n"
+            "state s {when t.reached->s}  # loops\n# the end\n")
+    assert formatted(text) == (
+        '# the header\nmission m "d"  # named m\n\nworld "w.yaml"\n\n'
+        "task t: body_pose(b) {  # the tool\n    # its gain\n    gain = 2.5\n"
+        "    # nothing after\n}\n\n"
+        "state s {  # loops\n    when t.reached -> s\n}\n# the end\n")
+
+
+def test_hash_in_string_is_no_comment():
+    """A ``#`` inside a string is text, not a comment."""
+    text = 'mission m "pick #3"  # third\nworld "w.yaml"\nstate s {\n  enter { log "#1" }\n}\n'
+    assert [c.text for c in comments(text)] == ["# third"]
+    assert formatted(text) == ('mission m "pick #3"  # third\n\nworld "w.yaml"\n\n'
+                               'state s {\n    enter {\n        log "#1"\n    }\n}\n')
+
+
+def test_blank_lines_around_comment_groups_kept():
+    """A comment set apart by blank lines in a block stays set apart."""
+    text = ("mission m\nworld \"w.yaml\"\nstate s {\n    enter { enable t }\n\n"
+            "    # leave\n    when t.reached -> s\n}\n")
+    assert formatted(text) == ("mission m\n\nworld \"w.yaml\"\n\nstate s {\n    enter {\n"
+                               "        enable t\n    }\n\n    # leave\n"
+                               "    when t.reached -> s\n}\n")
