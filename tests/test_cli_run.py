@@ -4,12 +4,13 @@ import re
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 from robocop_dsl.runtime import read_events, read_timeseries
+
+from test_signals import assert_clean_end, moving, start_run, wait_for
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -142,24 +143,9 @@ def test_solver_override_and_unknown_solver():
 
 
 def test_ctrl_c_holds_and_keeps_a_complete_log(tmp_path):
+    """Ctrl-C once while the arms move: exit 130, the robot held, the log complete."""
     log = tmp_path / "log"
-    process = subprocess.Popen(
-        [sys.executable, "-m", "robocop_dsl", "run", "missions/pickup.mission", "--realtime",
-         "--log", str(log)], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-        text=True)
-    for _ in range(600):
-        events = log / "events.jsonl"
-        if events.exists() and '"transition"' in events.read_text():
-            break
-        time.sleep(0.05)
+    process = start_run(log)
+    wait_for(moving(log), process)
     process.send_signal(signal.SIGINT)
-    out, err = process.communicate(timeout=120)
-    assert process.returncode == 130, err
-    assert "outcome: interrupted" in out
-    events = read_events(log)
-    end = events[-1]
-    assert end["kind"] == "end" and end["outcome"] == "interrupted"
-    assert end["holding"] is True
-    data = read_timeseries(log)
-    assert len(data["time"]) == end["cycle"]
-    np.testing.assert_allclose(np.diff(data["time"]), 0.005)
+    assert_clean_end(process, log, 130, "SIGINT")
