@@ -9,6 +9,11 @@ from .base import QPSolution, QPSolver, QuadraticProgram
 
 _SOLVED = proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED
 _WARM = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
+_DENSE = proxsuite.proxqp.dense
+_BACKEND = _DENSE.DenseBackend.PrimalDualLDLT
+"""ProxQP's factorisation, fixed: the automatic choice switches to PrimalLDLT when there
+are about twice as many inequality rows as variables, and PrimalLDLT takes thousands of
+iterations (seconds) on a Hessian damped to 1e-6 along a singular direction."""
 
 
 class ProxqpSolver(QPSolver):
@@ -18,7 +23,9 @@ class ProxqpSolver(QPSolver):
     arrays every cycle) reuses the arguments prepared for it the first time.
 
     Args:
-        eps_abs: Absolute tolerance on primal and dual residuals.
+        eps_abs: Absolute tolerance on primal and dual residuals (1e-10: near a
+            singularity, where the Hessian's smallest eigenvalue is the damping, the
+            command is then within 1e-4 rad/s of DAQP's).
         max_iter: Iteration limit (reaching it is a failure).
         eps_infeasible: Threshold of ProxQP's primal and dual infeasibility
             certificates; ProxQP's default 1e-4 flags feasible problems of this scale
@@ -29,7 +36,7 @@ class ProxqpSolver(QPSolver):
     name = "proxqp"
     guarantees_tolerance = True
 
-    def __init__(self, eps_abs: float = 1e-9, max_iter: int = 1000,
+    def __init__(self, eps_abs: float = 1e-10, max_iter: int = 1000,
                  eps_infeasible: float = 1e-12):
         self.eps_abs = eps_abs
         self.max_iter = max_iter
@@ -65,7 +72,7 @@ class ProxqpSolver(QPSolver):
                 qp.update(*self._arguments)
                 qp.solve()
             else:
-                qp = proxsuite.proxqp.dense.QP(n, n_eq, n_in, True)
+                qp = _DENSE.QP(n, n_eq, n_in, True, _DENSE.HessianType.Dense, _BACKEND)
                 settings = qp.settings
                 settings.eps_abs = self.eps_abs
                 settings.eps_rel = 0.0
