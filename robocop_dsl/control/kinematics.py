@@ -37,6 +37,8 @@ class Kinematics:
         self.q: np.ndarray | None = None
         self._key = b""
         self.stamp = 0
+        self.placements = 0
+        """How many times :meth:`place` has changed the model's frames."""
         self._poses: dict[int, pin.SE3] = {}
         self._jacobians: dict[int, np.ndarray] = {}
         self._frame_ids: dict[str, int] = {}
@@ -136,6 +138,7 @@ class Kinematics:
         frames[body_id].placement = new_placement
         frames[body_id].parentJoint = parent_frame.parentJoint
         frames[body_id].parentFrame = parent_id
+        self.placements += 1
         self.q = None
         self._key = b""
 

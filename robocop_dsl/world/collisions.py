@@ -13,7 +13,11 @@ bodies fixed to the world).
 
 A :class:`CollisionScene` places the shapes of some pairs at a kinematic state: a broad
 phase on world-aligned boxes (a lower bound of the distance, in numpy) selects the
-pairs that may be close, and only those are handed to coal.
+pairs that may be close, and only those are handed to coal. Followed from cycle to
+cycle (:meth:`CollisionScene.near`), a pair keeps the lower bound of its distance found
+the last time it was looked at, minus how far the joints have moved its shapes since
+(:func:`reach`: a lever arm per shape and joint coordinate): coal runs again only on the
+pairs whose bound falls below the distance asked for.
 """
 
 from __future__ import annotations
@@ -185,6 +189,74 @@ def _pairs(world: World, bodies_a, bodies_b) -> list[tuple[str, str]]:
     return sorted(pairs, key=lambda pair: (order[pair[0]], order[pair[1]]))
 
 
+_MEASURED_ALONE = 8
+"""Above this many pairs to measure at once that were not near at the last call, every
+pair's bound is renewed from its boxes first (one vectorised pass) so that coal sees
+only the pairs still close."""
+_UNBOUNDED = 1e9
+"""Lever arm [m per unit] of a coordinate whose motion is not bounded here (floating
+and spherical joints, unlimited prismatic joints): any motion renews the bound."""
+_LINEAR = frozenset({"JointModelPX", "JointModelPY", "JointModelPZ",
+                     "JointModelPrismaticUnaligned"})
+_ANGULAR = frozenset({"JointModelRX", "JointModelRY", "JointModelRZ",
+                      "JointModelRevoluteUnaligned"})
+_UNBOUNDED_ANGLE = frozenset({"JointModelRUBX", "JointModelRUBY", "JointModelRUBZ",
+                              "JointModelRevoluteUnboundedUnaligned"})
+
+
+def reach(model: pin.Model, frames: list[int], centers: np.ndarray,
+          half: np.ndarray) -> np.ndarray:
+    """How far each shape can move per unit of each configuration coordinate
+    (shapes x nq) [m/rad or m/m], whatever the configuration.
+
+    A revolute joint turning by ``a`` moves a point at most ``a`` times its distance
+    to the joint, and that distance is at most the sum of the translations along the
+    chain from the joint to the shape plus the shape's radius (prismatic joints below
+    add their longest extension). A continuous joint's angle is at most pi/2 times the
+    change of its (cos, sin); a prismatic joint moves the shape by its own change; a
+    mimic joint is bounded as either, scaled.
+
+    Args:
+        model: The kinematic model (frames as placed now).
+        frames: The frame each shape is fixed to.
+        centers: Each shape's centre in its frame (shapes x 3) [m].
+        half: Half extents of each shape's box in its frame (shapes x 3) [m].
+    """
+    table = np.zeros((len(frames), model.nq))
+    for row, (frame_id, center, halves) in enumerate(zip(frames, centers, half)):
+        frame = model.frames[frame_id]
+        lever = np.linalg.norm(frame.placement.act(center)) + np.linalg.norm(halves)
+        joint = frame.parentJoint
+        while joint > 0:
+            joint_model = model.joints[joint]
+            kind, start = joint_model.shortname(), joint_model.idx_q
+            extension = 0.0
+            if kind in _ANGULAR:
+                table[row, start] = lever
+            elif kind in _UNBOUNDED_ANGLE:
+                table[row, start:start + 2] = lever * np.pi / 2
+            elif kind in _LINEAR:
+                table[row, start] = 1.0
+                extension = _longest(model, start)
+            elif kind == "JointModelMimic":
+                mimic = joint_model.extract()
+                table[row, start] += abs(mimic.scaling) * max(lever, 1.0)
+                extension = abs(mimic.scaling) * _longest(model, start) + abs(mimic.offset)
+            else:
+                stretch = max(joint_model.nq, 1)
+                table[row, start:start + stretch] = max(lever, 1.0) * _UNBOUNDED
+                extension = _UNBOUNDED
+            lever += np.linalg.norm(model.jointPlacements[joint].translation) + extension
+            joint = model.parents[joint]
+    return table
+
+
+def _longest(model: pin.Model, index: int) -> float:
+    """The largest absolute value coordinate ``index`` may take [m]."""
+    longest = max(abs(model.lowerPositionLimit[index]), abs(model.upperPositionLimit[index]))
+    return float(longest) if np.isfinite(longest) else _UNBOUNDED
+
+
 def describe_shape(shape: Shape) -> str:
     """``box 0.09 x 0.09 x 0.14 m``, ``cylinder r 0.06 l 0.2 m``, ``convex 102 points``."""
     geometry = shape.geometry
@@ -248,7 +320,14 @@ class CollisionScene:
         self.half = np.zeros((len(self.shapes), 3))
         self._kinematics = None
         self._stamp = -1
-        self._placed = [-1] * len(self.shapes)
+        self._placed = -1
+        self._bound_to = None
+        self._followed = None
+        self._pair_reach = np.zeros((len(first), 0))
+        self._lower = np.zeros(len(first))
+        self._was_near = np.zeros(len(first), dtype=bool)
+        self._last = np.zeros(0)
+        self._moved = np.zeros(world.model.nq)
 
     @property
     def size(self) -> int:
@@ -281,26 +360,84 @@ class CollisionScene:
         np.maximum(gap, 0.0, out=gap)
         return np.maximum(np.sqrt(np.einsum("ij,ij->i", gap, gap)), balls)
 
-    def _put(self, shape: int) -> None:
-        if self._placed[shape] != self._stamp:
-            pose = self._kinematics.pose(self._frame_of[shape])
-            self.data.oMg[shape] = pose * self.shapes[shape].offset
-            self._placed[shape] = self._stamp
+    def _place_shapes(self) -> None:
+        """Place every shape at the current state (pinocchio, once per state), each
+        carried by the joint its body's frame hangs on now."""
+        if self._placed == self._stamp:
+            return
+        kinematics = self._kinematics
+        if self._bound_to != (kinematics, kinematics.placements):
+            self._bound_to = (kinematics, kinematics.placements)
+            frames = kinematics.model.frames
+            for obj, shape, frame_id in zip(self.model.geometryObjects, self.shapes,
+                                            self._frame_of):
+                frame = frames[frame_id]
+                obj.parentJoint = frame.parentJoint
+                obj.placement = frame.placement * shape.offset
+        pin.updateGeometryPlacements(kinematics.model, kinematics.data, self.model, self.data)
+        self._placed = self._stamp
 
     def witness(self, index: int) -> Witness:
-        """Distance, closest points and normal of shape pair ``index`` (after :meth:`place`)."""
-        first, second = int(self.first[index]), int(self.second[index])
-        self._put(first)
-        self._put(second)
+        """Distance, closest points and normal of shape pair ``index`` (after :meth:`place`
+        or :meth:`near`)."""
+        self._place_shapes()
         result = pin.computeDistance(self.model, self.data, int(index))
-        return Witness(self.shapes[first], self.shapes[second], float(result.min_distance),
-                       np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2()),
-                       np.array(result.normal))
+        return Witness(self.shapes[self.first[index]], self.shapes[self.second[index]],
+                       result.min_distance, result.getNearestPoint1(),
+                       result.getNearestPoint2(), result.normal.copy())
 
     def closest(self, below: float = np.inf) -> list[Witness]:
         """Every shape pair closer than ``below`` [m], closest first (after :meth:`place`)."""
         found = [self.witness(i) for i in np.flatnonzero(self.box_distances() < below)]
         return sorted((w for w in found if w.distance < below), key=lambda w: w.distance)
+
+    def near(self, kinematics, within: float) -> list[Witness]:
+        """The shape pairs closer than ``within`` [m] at the current state of
+        ``kinematics``, closest first, followed from call to call.
+
+        Each pair keeps a lower bound of its distance, lowered at every call by the
+        pair's :func:`reach` times how far each joint coordinate has moved since the
+        last call. Pairs whose bound stays at or above ``within`` cost their share of one
+        matrix product; the others are measured by coal, which renews their bound. The
+        boxes of :meth:`place` bound every pair on the first call, after an attachment,
+        and when many pairs that were not near need measuring at once.
+        """
+        q = kinematics.q
+        self._kinematics, self._stamp = kinematics, kinematics.stamp
+        if self._followed != (kinematics, kinematics.placements):
+            self._followed = (kinematics, kinematics.placements)
+            shape_reach = reach(kinematics.model, self._frame_of, self._centers, self._half)
+            self._pair_reach = shape_reach[self.first] + shape_reach[self.second]
+            self._last = q.copy()
+            self._renew_all(kinematics)
+        else:
+            np.subtract(q, self._last, out=self._moved)
+            np.abs(self._moved, out=self._moved)
+            self._lower -= self._pair_reach @ self._moved
+            self._last[:] = q
+        lower = self._lower
+        if not self.size or lower.min() >= within:
+            self._was_near[:] = False
+            return []
+        candidates = np.flatnonzero(lower < within)
+        if np.count_nonzero(~self._was_near[candidates]) > _MEASURED_ALONE:
+            self._renew_all(kinematics)
+            candidates = np.flatnonzero(lower < within)
+        found = []
+        self._was_near[:] = False
+        for index in candidates:
+            witness = self.witness(index)
+            lower[index] = witness.distance
+            if witness.distance < within:
+                found.append(witness)
+                self._was_near[index] = True
+        found.sort(key=lambda w: w.distance)
+        return found
+
+    def _renew_all(self, kinematics) -> None:
+        """Bound every pair by its boxes at the current state."""
+        self.place(kinematics)
+        self._lower[:] = self.box_distances()
 
     def clearance(self) -> float:
         """The smallest distance over every pair [m] (``inf`` without pairs; after

@@ -17,12 +17,13 @@ damper could ask for a velocity jump; the pair is then asked to brake to a stop 
 ``min_distance`` instead. Such a face held against another rocks a little from corner to
 corner: it may sink below ``min_distance`` by a fraction of a millimetre.
 
-Pairs beyond ``influence`` cost nothing: a broad phase on bounding boxes (see
-:class:`~robocop_dsl.world.collisions.CollisionScene`) hands coal only the pairs that
-may be close, and the constraint has rows for those alone. The row count is sized from
-the pairs whose boxes are within 1.5 ``influence``, so that it grows before a pair
-comes within influence; it shrinks when half of its rows stay unused. Unused rows are
-zero with infinite bounds.
+Pairs beyond ``influence`` cost nothing but a matrix product: each pair's distance is
+bounded from below by what was measured last minus how far the joints have moved it
+since (:meth:`~robocop_dsl.world.collisions.CollisionScene.near`), coal measures only
+the pairs whose bound falls within influence, and the constraint has rows for those
+alone. The row count grows by four rows when a pair comes within influence and finds
+none free, and shrinks when half of its rows stay unused, so that the QP is rebuilt
+seldom. Unused rows are zero with infinite bounds.
 """
 
 from __future__ import annotations
@@ -39,8 +40,8 @@ from .base import Constraint
 
 _ROW_CHUNK = 4
 """Rows are added and removed in multiples of this, to rebuild the QP seldom."""
-_AHEAD = 1.5
-"""Pairs whose bounding boxes are within this many ``influence`` get a row ready."""
+_NEXT, _AFTER = [1, 2, 0], [2, 0, 1]
+"""Index orders of a cross product's terms."""
 
 
 class CollisionAvoidanceConstraint(Constraint):
@@ -159,18 +160,8 @@ class CollisionAvoidanceConstraint(Constraint):
         if self._stamp == kinematics.stamp:
             return
         self._stamp = kinematics.stamp
-        scene = self.scene
-        scene.place(kinematics)
-        boxes = scene.box_distances()
-        if not scene.size or boxes.min() >= _AHEAD * self._influence:
-            self.witnesses, wanted = [], 0
-        else:
-            near = np.flatnonzero(boxes < self._influence)
-            witnesses = [scene.witness(index) for index in near]
-            self.witnesses = sorted((w for w in witnesses if w.distance < self._influence),
-                                    key=lambda w: w.distance)
-            ahead = int(np.count_nonzero(boxes < _AHEAD * self._influence))
-            wanted = _ROW_CHUNK * math.ceil(ahead / _ROW_CHUNK)
+        self.witnesses = self.scene.near(kinematics, self._influence)
+        wanted = _ROW_CHUNK * math.ceil(len(self.witnesses) / _ROW_CHUNK)
         if wanted > self._size or 2 * wanted <= self._size:
             self._wanted = wanted
             if wanted != self._size:
@@ -190,35 +181,40 @@ class CollisionAvoidanceConstraint(Constraint):
         jacobian, lower = self._jacobian, self._lower
         jacobian.fill(0.0)
         lower.fill(-np.inf)
+        witnesses = self.witnesses[:size]
+        if not witnesses:
+            return
+        count = len(witnesses)
         kinematics = state.kinematics
-        for row, witness in enumerate(self.witnesses[:size]):
-            normal = witness.normal
-            for shape, point, sign in ((witness.first, witness.point_first, -1.0),
-                                       (witness.second, witness.point_second, 1.0)):
-                frame = self._frames[shape.name]
-                if kinematics.is_fixed(frame):
-                    continue
-                body_jacobian = state.jacobian(frame)
-                x, y, z = point - kinematics.pose(frame).translation
-                a, b, c = normal
-                moment = np.array((y * c - z * b, z * a - x * c, x * b - y * a))
-                jacobian[row] += sign * (normal @ body_jacobian[:3] + moment @ body_jacobian[3:])
-            lower[row] = self._bound(witness.distance - self._min_distance,
-                                     float(jacobian[row] @ state.velocity))
+        frames = [self._frames[shape.name] for w in witnesses for shape in (w.first, w.second)]
+        arms = np.array([p for w in witnesses for p in (w.point_first, w.point_second)])
+        arms -= [kinematics.pose(frame).translation for frame in frames]
+        normals = np.repeat([w.normal for w in witnesses], 2, axis=0)
+        moments = arms[:, _NEXT] * normals[:, _AFTER] - arms[:, _AFTER] * normals[:, _NEXT]
+        rows = np.einsum("ik,ikj->ij", np.hstack((normals, moments)),
+                         [state.jacobian(frame) for frame in frames])
+        np.subtract(rows[1::2], rows[::2], out=jacobian[:count])
+        distances = np.array([w.distance for w in witnesses])
+        lower[:count] = self._bound(distances - self._min_distance,
+                                    jacobian[:count] @ state.velocity)
 
-    def _bound(self, gap: float, rate: float) -> float:
-        """Lower bound of a pair's distance rate [m/s] at ``gap`` [m] from
-        ``min_distance``, when the current velocity gives it ``rate`` [m/s].
+    def _bound(self, gap, rate):
+        """Lower bounds of pairs' distance rates [m/s] at ``gap`` [m] from
+        ``min_distance``, when the current velocity gives them ``rate`` [m/s] (arrays or
+        numbers).
 
         The damper's bound; but when the closest points just jumped (a face of one shape
         came parallel to the other: the distance is not smooth there) and the pair already
         closes faster than the damper allows, a velocity jump would be needed: the bound
         then only asks to brake to a stop at ``min_distance`` (``rate^2 / (2 gap)``).
         """
+        gap, rate = np.asarray(gap, dtype=float), np.asarray(rate, dtype=float)
         damper = -self._damping * gap
-        if gap <= 0.0 or rate >= damper:
+        braking = (gap > 0.0) & (rate < damper)
+        if not braking.any():
             return damper
-        return min(damper, rate + self.state.time_step * rate * rate / (2.0 * gap))
+        stop = rate + self.state.time_step * rate * rate / (2.0 * np.where(braking, gap, 1.0))
+        return np.where(braking, np.minimum(damper, stop), damper)
 
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         self._write_rows(state)
