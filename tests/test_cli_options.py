@@ -43,11 +43,9 @@ def test_version():
     assert done.stdout.strip() == f"robocop-mission {robocop_dsl.__version__}"
 
 
-@pytest.mark.parametrize("arguments", [["--help"], ["--version"], []]
-                         + [[command, "--help"] for command in COMMANDS])
-def test_help_imports_no_heavy_library(arguments):
-    """Help and version come from the standard library and the command modules alone:
-    the modules loaded are listed by the interpreter that answered."""
+def _modules_loaded(*arguments) -> tuple[int, set]:
+    """The exit code of ``robocop-mission ARGUMENTS`` and the modules its interpreter
+    had loaded when it exited."""
     probe = ("import sys, atexit\n"
              "atexit.register(lambda: sys.__stderr__.write('MODULES ' + ' '.join(sys.modules)))\n"
              "sys.argv = ['robocop-mission', *sys.argv[1:]]\n"
@@ -55,10 +53,27 @@ def test_help_imports_no_heavy_library(arguments):
              "entry_point()\n")
     done = subprocess.run([sys.executable, "-c", probe, *arguments], capture_output=True,
                           text=True, cwd=REPO, check=False)
-    assert done.returncode == (2 if not arguments else 0), done.stderr
-    modules = set(done.stderr.rsplit("MODULES ", 1)[1].split())
+    return done.returncode, set(done.stderr.rsplit("MODULES ", 1)[1].split())
+
+
+@pytest.mark.parametrize("arguments", [["--help"], ["--version"], []]
+                         + [[command, "--help"] for command in COMMANDS])
+def test_help_imports_no_heavy_library(arguments):
+    """Help and version come from the standard library and the command modules alone:
+    the modules loaded are listed by the interpreter that answered."""
+    returncode, modules = _modules_loaded(*arguments)
+    assert returncode == (2 if not arguments else 0)
     assert "robocop_dsl.cli.main" in modules
     assert not {m for m in HEAVY if m in modules}
+
+
+def test_check_imports_no_qp_library_for_proxqp():
+    """``check`` of a mission whose controller uses ProxQP loads neither qpsolvers nor
+    SciPy (a third of its start-up): ProxQP is built in."""
+    returncode, modules = _modules_loaded("check", "missions/pickup.mission")
+    assert returncode == 0
+    assert "robocop_dsl.check.checker" in modules
+    assert not {m for m in ("qpsolvers", "scipy") if m in modules}
 
 
 def test_no_arguments_prints_the_help_as_a_usage_error():

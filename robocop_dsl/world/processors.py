@@ -292,6 +292,8 @@ def _group(value, option, names) -> str:
 
 
 def _solver(value, option, names) -> str:
+    if value == "proxqp":  # built in: proxsuite is a dependency
+        return value
     from ..control.solvers import available_solvers
 
     installed = available_solvers()

@@ -1,18 +1,21 @@
-"""QP backends: proxsuite's ProxQP (reused, warm-started) and any qpsolvers backend."""
+"""QP backends: proxsuite's ProxQP (reused, warm-started) and any qpsolvers backend.
+
+qpsolvers (and SciPy with it) is imported only when another backend is named or the
+installed ones are listed: ProxQP needs neither, and `check` stays quick.
+"""
 
 from __future__ import annotations
-
-import qpsolvers
 
 from ..exceptions import UnknownSolver
 from .base import QPSolution, QPSolver, QuadraticProgram
 from .proxqp import ProxqpSolver
-from .qpsolvers_backend import QpsolversSolver
 
 
 def available_solvers() -> list[str]:
-    """Names of the installed backends."""
-    return sorted(set(qpsolvers.available_solvers))
+    """Names of the installed backends (``proxqp`` always)."""
+    import qpsolvers
+
+    return sorted(set(qpsolvers.available_solvers) | {ProxqpSolver.name})
 
 
 def make_solver(name: str) -> QPSolver:
@@ -21,13 +24,15 @@ def make_solver(name: str) -> QPSolver:
     Raises:
         UnknownSolver: ``name`` is not an installed qpsolvers backend.
     """
+    if name == ProxqpSolver.name:
+        return ProxqpSolver()
     installed = available_solvers()
     if name not in installed:
         raise UnknownSolver(name, installed)
-    if name == "proxqp":
-        return ProxqpSolver()
+    from .qpsolvers_backend import QpsolversSolver
+
     return QpsolversSolver(name)
 
 
-__all__ = ["ProxqpSolver", "QPSolution", "QPSolver", "QpsolversSolver", "QuadraticProgram",
-           "available_solvers", "make_solver"]
+__all__ = ["ProxqpSolver", "QPSolution", "QPSolver", "QuadraticProgram", "available_solvers",
+           "make_solver"]
