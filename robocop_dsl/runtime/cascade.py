@@ -300,9 +300,11 @@ class ControllerThread:
         remaining = self._wall_start + self.time - clock.perf_counter()
         if remaining > 0:
             self._stop.wait(remaining)
-        elif -remaining > self.controller.time_step:
+        if self._stop.is_set():
+            return False
+        if -remaining > self.controller.time_step:
             self.overruns += 1
-        return not self._stop.is_set()
+        return True
 
     def _cycle(self) -> None:
         for action in self.link.take_actions():
