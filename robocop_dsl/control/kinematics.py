@@ -21,6 +21,7 @@ import pinocchio as pin
 from .exceptions import InvalidParameter, UnknownName
 
 _LOCAL_WORLD_ALIGNED = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+_WORLD = pin.ReferenceFrame.WORLD
 
 
 class Kinematics:
@@ -41,6 +42,7 @@ class Kinematics:
         """How many times :meth:`place` has changed the model's frames."""
         self._poses: dict[int, pin.SE3] = {}
         self._jacobians: dict[int, np.ndarray] = {}
+        self._joint_jacobians: dict[int, np.ndarray] = {}
         self._frame_ids: dict[str, int] = {}
 
     def update(self, q: np.ndarray) -> bool:
@@ -53,6 +55,7 @@ class Kinematics:
         self.stamp += 1
         self._poses = {}
         self._jacobians = {}
+        self._joint_jacobians = {}
         pin.computeJointJacobians(self.model, self.data, self.q)
         return True
 
@@ -86,6 +89,15 @@ class Kinematics:
             jacobian = pin.getFrameJacobian(self.model, self.data, frame_id,
                                             _LOCAL_WORLD_ALIGNED)
             self._jacobians[frame_id] = jacobian
+        return jacobian
+
+    def joint_jacobian(self, joint: int) -> np.ndarray:
+        """6 x nv ``WORLD`` Jacobian of a joint's body, ``[v0; w]`` with ``v0`` the
+        velocity of the body's point at the world's origin (cached, do not modify)."""
+        jacobian = self._joint_jacobians.get(joint)
+        if jacobian is None:
+            jacobian = pin.getJointJacobian(self.model, self.data, joint, _WORLD)
+            self._joint_jacobians[joint] = jacobian
         return jacobian
 
     def is_fixed(self, frame_id: int) -> bool:

@@ -40,7 +40,9 @@ class ControlState:
         self.dofs = group.dofs
         self.v_indices = np.asarray(group.v_indices, dtype=int)
         self.q_indices = np.asarray(group.q_indices, dtype=int)
-        self._columns = _as_slice(self.v_indices)
+        self.columns = _as_slice(self.v_indices)
+        """The controlled columns of a model-wide (nv) Jacobian: a slice when they follow
+        one another."""
         self.velocity = np.zeros(self.dofs)
         self.previous_command = np.zeros(self.dofs)
         self.revision = 0
@@ -95,14 +97,14 @@ class ControlState:
         jacobian = self._jacobians.get(key)
         if jacobian is None:
             kinematics = self.kinematics
-            jacobian = kinematics.jacobian(frame_id)[:, self._columns]
+            jacobian = kinematics.jacobian(frame_id)[:, self.columns]
             if reference_id != 0:
                 reference_pose = kinematics.pose(reference_id)
                 if kinematics.is_fixed(reference_id):
                     rotation_t = reference_pose.rotation.T
                     jacobian = np.vstack((rotation_t @ jacobian[:3], rotation_t @ jacobian[3:]))
                 else:
-                    reference = kinematics.jacobian(reference_id)[:, self._columns]
+                    reference = kinematics.jacobian(reference_id)[:, self.columns]
                     jacobian = relative_jacobian(jacobian, kinematics.pose(frame_id),
                                                  reference, reference_pose)
             self._jacobians[key] = jacobian

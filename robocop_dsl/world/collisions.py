@@ -24,6 +24,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from operator import attrgetter
+from typing import NamedTuple
 from weakref import WeakKeyDictionary
 
 import coal
@@ -48,8 +50,7 @@ class Shape:
     """Half extents of that box, along the body frame's axes [m]."""
 
 
-@dataclass(frozen=True)
-class Witness:
+class Witness(NamedTuple):
     """The closest points of a pair of shapes at one state (world frame, metres).
 
     ``normal`` is the unit direction from ``first`` to ``second``; ``distance`` is
@@ -189,6 +190,11 @@ def _pairs(world: World, bodies_a, bodies_b) -> list[tuple[str, str]]:
     return sorted(pairs, key=lambda pair: (order[pair[0]], order[pair[1]]))
 
 
+_LEVI_CIVITA = np.zeros((3, 3, 3))
+_LEVI_CIVITA[0, 1, 2] = _LEVI_CIVITA[1, 2, 0] = _LEVI_CIVITA[2, 0, 1] = 1.0
+_LEVI_CIVITA[0, 2, 1] = _LEVI_CIVITA[2, 1, 0] = _LEVI_CIVITA[1, 0, 2] = -1.0
+"""``a x b = einsum("ijk,j,k->i", _LEVI_CIVITA, a, b)``."""
+_distance = attrgetter("distance")
 _MEASURED_ALONE = 8
 """Above this many pairs to measure at once that were not near at the last call, every
 pair's bound is renewed from its boxes first (one vectorised pass) so that coal sees
@@ -325,9 +331,14 @@ class CollisionScene:
         self._followed = None
         self._pair_reach = np.zeros((len(first), 0))
         self._lower = np.zeros(len(first))
-        self._was_near = np.zeros(len(first), dtype=bool)
-        self._last = np.zeros(0)
+        self._pair_shapes = [(self.shapes[a], self.shapes[b]) for a, b in zip(first, second)]
+        self._was_near: set[int] = set()
+        self._reference = np.zeros(0)
         self._moved = np.zeros(world.model.nq)
+        self._within = np.nan
+        self._still = 0.0
+        self._joint_of: dict[int, int] = {}
+        """Joint carrying each shape (by ``id``), as bound by :meth:`_place_shapes`."""
 
     @property
     def size(self) -> int:
@@ -372,7 +383,7 @@ class CollisionScene:
             for obj, shape, frame_id in zip(self.model.geometryObjects, self.shapes,
                                             self._frame_of):
                 frame = frames[frame_id]
-                obj.parentJoint = frame.parentJoint
+                obj.parentJoint = self._joint_of[id(shape)] = frame.parentJoint
                 obj.placement = frame.placement * shape.offset
         pin.updateGeometryPlacements(kinematics.model, kinematics.data, self.model, self.data)
         self._placed = self._stamp
@@ -381,63 +392,110 @@ class CollisionScene:
         """Distance, closest points and normal of shape pair ``index`` (after :meth:`place`
         or :meth:`near`)."""
         self._place_shapes()
-        result = pin.computeDistance(self.model, self.data, int(index))
-        return Witness(self.shapes[self.first[index]], self.shapes[self.second[index]],
-                       result.min_distance, result.getNearestPoint1(),
-                       result.getNearestPoint2(), result.normal.copy())
+        return self._measure(int(index))
+
+    def _measure(self, index: int) -> Witness:
+        """Coal's distance, closest points and normal of shape pair ``index``, the shapes
+        being placed at the current state."""
+        result = pin.computeDistance(self.model, self.data, index)
+        return Witness(*self._pair_shapes[index], result.min_distance,
+                       result.getNearestPoint1(), result.getNearestPoint2(),
+                       result.normal.copy())
 
     def closest(self, below: float = np.inf) -> list[Witness]:
         """Every shape pair closer than ``below`` [m], closest first (after :meth:`place`)."""
         found = [self.witness(i) for i in np.flatnonzero(self.box_distances() < below)]
-        return sorted((w for w in found if w.distance < below), key=lambda w: w.distance)
+        return sorted((w for w in found if w.distance < below), key=_distance)
 
     def near(self, kinematics, within: float) -> list[Witness]:
         """The shape pairs closer than ``within`` [m] at the current state of
         ``kinematics``, closest first, followed from call to call.
 
-        Each pair keeps a lower bound of its distance, lowered at every call by the
-        pair's :func:`reach` times how far each joint coordinate has moved since the
-        last call. Pairs whose bound stays at or above ``within`` cost their share of one
-        matrix product; the others are measured by coal, which renews their bound. The
-        boxes of :meth:`place` bound every pair on the first call, after an attachment,
-        and when many pairs that were not near need measuring at once.
+        Each pair keeps a lower bound of its distance at a reference configuration;
+        at another configuration the bound is lowered by the pair's :func:`reach` times
+        how far each joint coordinate is from the reference. While the joints have
+        moved less in all (the sum of their coordinates' changes) than the smallest
+        margin any pair's bound leaves above ``within`` divided by that pair's longest
+        lever, no pair can be within: the call costs a subtraction and a sum. Else the
+        pairs whose bound falls below ``within`` are measured by coal, every bound is
+        moved to the current configuration, which becomes the reference. The boxes of
+        :meth:`place` bound every pair on the first call, after an attachment, and when
+        many pairs that were not near need measuring at once.
         """
         q = kinematics.q
         self._kinematics, self._stamp = kinematics, kinematics.stamp
+        moved = self._moved
         if self._followed != (kinematics, kinematics.placements):
             self._followed = (kinematics, kinematics.placements)
             shape_reach = reach(kinematics.model, self._frame_of, self._centers, self._half)
             self._pair_reach = shape_reach[self.first] + shape_reach[self.second]
-            self._last = q.copy()
+            self._reference = q.copy()
             self._renew_all(kinematics)
+            moved[:] = 0.0
         else:
-            np.subtract(q, self._last, out=self._moved)
-            np.abs(self._moved, out=self._moved)
-            self._lower -= self._pair_reach @ self._moved
-            self._last[:] = q
-        lower = self._lower
-        if not self.size or lower.min() >= within:
-            self._was_near[:] = False
-            return []
-        candidates = np.flatnonzero(lower < within)
-        if np.count_nonzero(~self._was_near[candidates]) > _MEASURED_ALONE:
+            np.subtract(q, self._reference, out=moved)
+            np.abs(moved, out=moved)
+            if self._still and within == self._within and moved.sum() < self._still:
+                return []
+        lower = self._lower - self._pair_reach @ moved
+        candidates = np.flatnonzero(lower < within).tolist()
+        if len(set(candidates).difference(self._was_near)) > _MEASURED_ALONE:
             self._renew_all(kinematics)
-            candidates = np.flatnonzero(lower < within)
-        found = []
-        self._was_near[:] = False
-        for index in candidates:
-            witness = self.witness(index)
-            lower[index] = witness.distance
-            if witness.distance < within:
-                found.append(witness)
-                self._was_near[index] = True
-        found.sort(key=lambda w: w.distance)
+            lower = self._lower
+            candidates = np.flatnonzero(lower < within).tolist()
+        found, near = [], set()
+        if candidates:
+            self._place_shapes()
+            for index in candidates:
+                witness = self._measure(index)
+                lower[index] = witness.distance
+                if witness.distance < within:
+                    found.append(witness)
+                    near.add(index)
+        self._follow_from(q, lower, within, near)
+        found.sort(key=_distance)
         return found
+
+    def _follow_from(self, q: np.ndarray, lower: np.ndarray, within: float,
+                     near: set) -> None:
+        """Make ``q`` the reference configuration, with bounds ``lower`` [m] and the
+        pairs ``near`` (indices) within ``within`` [m]."""
+        self._reference[:] = q
+        self._lower = lower
+        self._within = within
+        self._was_near = near
+        if near or not self.size:
+            self._still = 0.0 if near else np.inf
+            return
+        levers = self._pair_reach.max(axis=1)
+        self._still = float(np.min((lower - within) / np.maximum(levers, 1e-12)))
+
+    def distance_jacobian(self, witnesses: list[Witness]) -> np.ndarray:
+        """How fast each witness's distance changes per joint velocity (len x nv)
+        [m/s per rad/s or m/s]: the velocity of its second point minus that of its
+        first, along its normal, each point carried by the joint its shape hangs on
+        (after :meth:`near` or :meth:`witness` at the current state).
+
+        With a joint's Jacobian in the world frame ``J = [v0; w]`` (``v0`` the velocity
+        of the point of its body at the world's origin), a point ``p`` moves at
+        ``v0 + w x p``, so its speed along ``n`` is ``[n; p x n] . J``."""
+        count = len(witnesses)
+        jacobian, joint_of = self._kinematics.joint_jacobian, self._joint_of
+        stacked = np.array([[jacobian(joint_of[id(w.first)]) for w in witnesses],
+                            [jacobian(joint_of[id(w.second)]) for w in witnesses]])
+        points = np.array([[w.point_first for w in witnesses],
+                           [w.point_second for w in witnesses]])
+        weights = np.empty((2, count, 6))
+        normals = weights[..., :3]
+        normals[1] = [w.normal for w in witnesses]
+        np.negative(normals[1], out=normals[0])
+        np.einsum("ijk,pnj,pnk->pni", _LEVI_CIVITA, points, normals, out=weights[..., 3:])
+        return np.einsum("pne,pned->nd", weights, stacked)
 
     def _renew_all(self, kinematics) -> None:
         """Bound every pair by its boxes at the current state."""
         self.place(kinematics)
-        self._lower[:] = self.box_distances()
+        self._lower = self.box_distances()
 
     def clearance(self) -> float:
         """The smallest distance over every pair [m] (``inf`` without pairs; after

@@ -40,8 +40,6 @@ from .base import Constraint
 
 _ROW_CHUNK = 4
 """Rows are added and removed in multiples of this, to rebuild the QP seldom."""
-_NEXT, _AFTER = [1, 2, 0], [2, 0, 1]
-"""Index orders of a cross product's terms."""
 
 
 class CollisionAvoidanceConstraint(Constraint):
@@ -85,8 +83,6 @@ class CollisionAvoidanceConstraint(Constraint):
         pairs = [pair for pair in checked_pairs(world, first, other)
                  if any(_driven_by(model, world.body_frame_id(body), driven) for body in pair)]
         self.scene = CollisionScene(world, pairs)
-        self._frames = {shape.name: world.body_frame_id(shape.body)
-                        for shape in self.scene.shapes}
         self._min_distance, self._influence = 0.0, np.inf
         self.influence = influence
         self.min_distance = min_distance
@@ -178,25 +174,18 @@ class CollisionAvoidanceConstraint(Constraint):
             self._jacobian = np.zeros((size, state.dofs))
             self._lower = np.full(size, -np.inf)
             self._upper = np.full(size, np.inf)
-        jacobian, lower = self._jacobian, self._lower
-        jacobian.fill(0.0)
-        lower.fill(-np.inf)
         witnesses = self.witnesses[:size]
-        if not witnesses:
-            return
         count = len(witnesses)
-        kinematics = state.kinematics
-        frames = [self._frames[shape.name] for w in witnesses for shape in (w.first, w.second)]
-        arms = np.array([p for w in witnesses for p in (w.point_first, w.point_second)])
-        arms -= [kinematics.pose(frame).translation for frame in frames]
-        normals = np.repeat([w.normal for w in witnesses], 2, axis=0)
-        moments = arms[:, _NEXT] * normals[:, _AFTER] - arms[:, _AFTER] * normals[:, _NEXT]
-        rows = np.einsum("ik,ikj->ij", np.hstack((normals, moments)),
-                         [state.jacobian(frame) for frame in frames])
-        np.subtract(rows[1::2], rows[::2], out=jacobian[:count])
+        jacobian, lower = self._jacobian, self._lower
+        if count < size:
+            jacobian[count:] = 0.0
+            lower[count:] = -np.inf
+        if not count:
+            return
+        rows = jacobian[:count]
+        rows[:] = self.scene.distance_jacobian(witnesses)[:, state.columns]
         distances = np.array([w.distance for w in witnesses])
-        lower[:count] = self._bound(distances - self._min_distance,
-                                    jacobian[:count] @ state.velocity)
+        lower[:count] = self._bound(distances - self._min_distance, rows @ state.velocity)
 
     def _bound(self, gap, rate):
         """Lower bounds of pairs' distance rates [m/s] at ``gap`` [m] from
@@ -210,9 +199,10 @@ class CollisionAvoidanceConstraint(Constraint):
         """
         gap, rate = np.asarray(gap, dtype=float), np.asarray(rate, dtype=float)
         damper = -self._damping * gap
-        braking = (gap > 0.0) & (rate < damper)
+        braking = rate < damper
         if not braking.any():
             return damper
+        braking &= gap > 0.0
         stop = rate + self.state.time_step * rate * rate / (2.0 * np.where(braking, gap, 1.0))
         return np.where(braking, np.minimum(damper, stop), damper)
 
