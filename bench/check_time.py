@@ -19,17 +19,11 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
-# Through the entry point when it dispatches ``check``, else the command module alone.
+# What the ``robocop-mission`` script that pip installs runs.
 COMMAND = ("import sys\n"
-           "from robocop_dsl.cli import main as entry\n"
-           "if any(getattr(c, '__name__', '').endswith('check_cmd') for c in entry.COMMANDS):\n"
-           "    sys.exit(entry.main(sys.argv[1:]))\n"
-           "import argparse\n"
-           "from robocop_dsl.cli import check_cmd\n"
-           "parser = argparse.ArgumentParser(prog='robocop-mission')\n"
-           "check_cmd.add_parser(parser.add_subparsers(dest='name', required=True))\n"
-           "args = parser.parse_args(sys.argv[1:])\n"
-           "sys.exit(args.command(args))\n")
+           "from robocop_dsl.cli.main import entry_point\n"
+           "sys.argv[0] = 'robocop-mission'\n"
+           "sys.exit(entry_point())\n")
 
 
 def _child_cpu() -> float:

@@ -69,11 +69,13 @@ def test_help_imports_no_heavy_library(arguments):
 
 def test_check_imports_no_qp_library_for_proxqp():
     """``check`` of a mission whose controller uses ProxQP loads neither qpsolvers nor
-    SciPy (a third of its start-up): ProxQP is built in."""
+    SciPy (a third of its start-up): ProxQP is built in. Nor does it load the compiler
+    and its specs: it wants the diagnostics alone."""
     returncode, modules = _modules_loaded("check", "missions/pickup.mission")
     assert returncode == 0
     assert "robocop_dsl.check.checker" in modules
-    assert not {m for m in ("qpsolvers", "scipy") if m in modules}
+    assert not {m for m in ("qpsolvers", "scipy", "robocop_dsl.compile.compiler",
+                            "robocop_dsl.compile.spec") if m in modules}
 
 
 def test_no_arguments_prints_the_help_as_a_usage_error():

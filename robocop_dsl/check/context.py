@@ -67,10 +67,10 @@ class WorldNames:
         if self.world is None:
             return None
         if self.world.has_group(name):
-            group = self.world.joint_group(name)
-            types = tuple(self.world.joint(j).type for j in group.joints)
-            return Joints(name, group.dofs, _floats(group.lower), _floats(group.upper),
-                          _floats(group.max_velocity), types)
+            infos = self.world.moving_joints(name)
+            return Joints(name, sum(i.dofs for i in infos), _stacked(infos, "lower"),
+                          _stacked(infos, "upper"), _stacked(infos, "max_velocity"),
+                          tuple(i.type for i in infos))
         if name in self.world.joint_names():
             joint = self.world.joint(name)
             return Joints(name, joint.dofs, _floats(joint.lower), _floats(joint.upper),
@@ -102,7 +102,7 @@ class WorldNames:
         if self.world is None:
             return set()
         if self.world.has_group(name) or name in self.world.joint_names():
-            return set(self.world.joint_group(name).joints)
+            return {i.name for i in self.world.moving_joints(name)}
         return set()
 
     def body_joints(self, body: str) -> set:
@@ -124,6 +124,11 @@ class WorldNames:
 
 def _floats(values) -> tuple[float, ...]:
     return tuple(float(v) for v in values)
+
+
+def _stacked(joints, limit: str) -> tuple[float, ...]:
+    """One ``limit`` (``lower``, ``upper``, ``max_velocity``) per dof of ``joints``."""
+    return tuple(float(v) for joint in joints for v in getattr(joint, limit))
 
 
 @dataclass

@@ -43,7 +43,7 @@ def _compare(ctx: CheckContext, decl: ast.ConstraintDecl, value: ast.Value, join
         return
     first = above[0]
     unit = "m/s" if joints.joint_types[first] == "prismatic" else "rad/s"
-    names = ctx.world.world.joint_group(joints.name).joints \
+    names = [joint.name for joint in ctx.world.world.moving_joints(joints.name)] \
         if ctx.world.world.has_group(joints.name) else (joints.name,)
     more = f" (and {len(above) - 1} more joints)" if len(above) > 1 else ""
     ctx.warning("limit-above-urdf",

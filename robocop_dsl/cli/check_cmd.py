@@ -6,7 +6,9 @@ Exit codes: 0 no error (warnings allowed unless ``--strict``), 1 errors, 2 usage
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import gc
 import json
 import sys
 from pathlib import Path
@@ -48,6 +50,21 @@ def _summary(path: str, diagnostics: list[Diagnostic]) -> str:
     return f"{path}: {', '.join(parts)}"
 
 
+@contextlib.contextmanager
+def _collector_paused():
+    """Check without cyclic garbage collection. Importing the libraries and loading a
+    world create some 60,000 objects that live as long as the process: each collection
+    walked them again and found next to nothing. A checked file leaves a few hundred
+    objects of cyclic garbage (about 250 kB), collected once the checks are done."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
 def run(args) -> int:
     """Check every file; exit 1 when any has an error."""
     from ..compile import WorldCache, check_file
@@ -60,9 +77,10 @@ def run(args) -> int:
         return 2
     cache = WorldCache()
     reports = []
-    for name in args.files:
-        result = check_file(name, cache=cache)
-        reports.append((name, _strict(result.diagnostics, args.strict)))
+    with _collector_paused():
+        for name in args.files:
+            result = check_file(name, cache=cache, compiled=False)
+            reports.append((name, _strict(result.diagnostics, args.strict)))
     if args.format == "json":
         print(json.dumps([{"file": name, "ok": not any(d.is_error for d in found),
                            "diagnostics": [d.to_json() for d in found]}

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import networkx as nx
 
@@ -13,9 +14,10 @@ from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, sort_key, uni
 from ..lang import ast, parse_mission
 from ..sources import MISSION, WORLD, UnreadableSource, read_source, refusal
 from ..world import World, load_world, resolve_world_path
-from .compiler import compile_mission
-from .spec import MissionSpec
 from .state_graph import build_state_graph
+
+if TYPE_CHECKING:
+    from .spec import MissionSpec
 
 
 @dataclass(frozen=True)
@@ -23,7 +25,7 @@ class CheckResult:
     """Everything ``check`` learnt about one mission file.
 
     ``world`` is ``None`` when the mission names none or it failed to load; ``mission``
-    is the compiled mission when there is no error, else ``None``.
+    is the compiled mission when there is no error and it was asked for, else ``None``.
     """
 
     source: SourceFile
@@ -93,8 +95,10 @@ def _world_of(mission: ast.Mission, source: SourceFile, cache: WorldCache):
 
 
 def check_source(text: str, path: str | Path = "<mission>", *, world: World | None = None,
-                 cache: WorldCache | None = None) -> CheckResult:
-    """Parse and check mission ``text``; compile it when there is no error.
+                 cache: WorldCache | None = None, compiled: bool = True) -> CheckResult:
+    """Parse and check mission ``text``; compile it when there is no error, unless
+    ``compiled`` is false (the diagnostics alone are wanted: the compiler and its specs
+    are not even imported).
 
     ``world``, when given, is used instead of the one the mission names (tests and
     tools that check many texts against one world). Never raises on bad input.
@@ -113,23 +117,25 @@ def check_source(text: str, path: str | Path = "<mission>", *, world: World | No
         check_graph(ctx, ctx.expanded, graph)
     diagnostics = tuple(sorted(unique([*parsed.diagnostics, *loading, *ctx.diagnostics]),
                                key=lambda d: (d.file != source.path, *sort_key(d))))
-    compiled = None
-    if not any(d.is_error for d in diagnostics) and world is not None \
+    mission = None
+    if compiled and not any(d.is_error for d in diagnostics) and world is not None \
             and tree.first(ast.MissionHeader) is not None:
-        compiled = compile_mission(ctx.expanded, source, world, world_path, graph)
-    return CheckResult(source, diagnostics, tree, graph, world, compiled)
+        from .compiler import compile_mission
+
+        mission = compile_mission(ctx.expanded, source, world, world_path, graph)
+    return CheckResult(source, diagnostics, tree, graph, world, mission)
 
 
 def check_file(path: str | Path, *, world: World | None = None,
-               cache: WorldCache | None = None) -> CheckResult:
-    """Read a mission file and :func:`check_source` it. An unreadable file is a
-    diagnostic too."""
+               cache: WorldCache | None = None, compiled: bool = True) -> CheckResult:
+    """Read a mission file and :func:`check_source` it (``compiled`` as there). An
+    unreadable file is a diagnostic too."""
     try:
         text = read_source(path, MISSION).text
     except UnreadableSource as error:
         return CheckResult(SourceFile(str(path), ""), tuple(error.diagnostics), ast.Mission(),
                            nx.DiGraph(start=None, guards=(), machines={}), None, None)
-    return check_source(text, path, world=world, cache=cache)
+    return check_source(text, path, world=world, cache=cache, compiled=compiled)
 
 
 def load_mission(path: str | Path, *, world: World | None = None) -> MissionSpec:

@@ -91,17 +91,22 @@ class World:
     def controller_names(self) -> list:
         return [p.name for p in self.processors.values() if p.type == "qp_controller"]
 
-    def joint_group(self, name: str) -> JointGroup:
-        """The group ``name``, or a single joint seen as a group."""
-        from .joint_space import JointSpace
-
+    def moving_joints(self, name: str) -> tuple[JointInfo, ...]:
+        """The joints with dofs of the group ``name`` in its order, or of the single joint
+        ``name``: what :meth:`joint_group` stacks, read without the pinocchio model."""
         if name in self._assembly.groups:
             joints = self._assembly.groups[name].joints
         elif name in self._assembly.joints:
             joints = (name,)
         else:
             raise KeyError(name)
-        infos = [self._assembly.joints[j] for j in joints if self._assembly.joints[j].dofs]
+        return tuple(self._assembly.joints[j] for j in joints if self._assembly.joints[j].dofs)
+
+    def joint_group(self, name: str) -> JointGroup:
+        """The group ``name``, or a single joint seen as a group."""
+        from .joint_space import JointSpace
+
+        infos = self.moving_joints(name)
         stack = (lambda attr: np.concatenate([getattr(i, attr) for i in infos])
                  if infos else np.zeros(0))
         dofs = sum(i.dofs for i in infos)
