@@ -29,6 +29,7 @@ def write(tmp_path, body):
 def test_pickup_succeeds_with_the_seed_sequence(tmp_path):
     done = robocop("run", "missions/pickup.mission", "--log", tmp_path / "log")
     assert done.returncode == 0, done.stderr
+    assert "leaked" not in done.stderr  # every binding's object is released at exit
     out = done.stdout
     assert "outcome: success  final state: done" in out
     rows = [[cell.strip() for cell in line.split("│")] for line in out.splitlines()
