@@ -330,6 +330,8 @@ class CollisionScene:
         self._bound_to = None
         self._followed = None
         self._pair_reach = np.zeros((len(first), 0))
+        self._levers = np.ones(len(first))
+        """Each pair's longest lever in ``_pair_reach`` [m per unit]."""
         self._lower = np.zeros(len(first))
         self._pair_shapes = [(self.shapes[a], self.shapes[b]) for a, b in zip(first, second)]
         self._was_near: set[int] = set()
@@ -429,6 +431,7 @@ class CollisionScene:
             self._followed = (kinematics, kinematics.placements)
             shape_reach = reach(kinematics.model, self._frame_of, self._centers, self._half)
             self._pair_reach = shape_reach[self.first] + shape_reach[self.second]
+            self._levers = np.maximum(self._pair_reach.max(axis=1, initial=0.0), 1e-12)
             self._reference = q.copy()
             self._renew_all(kinematics)
             moved[:] = 0.0
@@ -467,8 +470,7 @@ class CollisionScene:
         if near or not self.size:
             self._still = 0.0 if near else np.inf
             return
-        levers = self._pair_reach.max(axis=1)
-        self._still = float(np.min((lower - within) / np.maximum(levers, 1e-12)))
+        self._still = float(np.min((lower - within) / self._levers))
 
     def distance_jacobian(self, witnesses: list[Witness]) -> np.ndarray:
         """How fast each witness's distance changes per joint velocity (len x nv)
