@@ -17,11 +17,12 @@ damper could ask for a velocity jump; the pair is then asked to brake to a stop 
 ``min_distance`` instead. Such a face held against another rocks a little from corner to
 corner: it may sink below ``min_distance`` by a fraction of a millimetre.
 
-Pairs beyond ``influence`` cost nothing but a matrix product: each pair's distance is
-bounded from below by what was measured last minus how far the joints have moved it
-since (:meth:`~robocop_dsl.world.collisions.CollisionScene.near`), coal measures only
-the pairs whose bound falls within influence, and the constraint has rows for those
-alone. The row count grows by four rows when a pair comes within influence and finds
+Pairs beyond ``influence`` cost almost nothing: each pair's distance is bounded from
+below by what was measured last minus how far the joints have moved it since
+(:meth:`~robocop_dsl.world.collisions.CollisionScene.near`; a subtraction and a sum
+while the joints have moved too little for any bound to reach influence), coal measures
+only the pairs whose bound falls within influence, and the constraint has rows for
+those alone. The row count grows by four rows when a pair comes within influence and finds
 none free, and shrinks when half of its rows stay unused, so that the QP is rebuilt
 seldom. Unused rows are zero with infinite bounds.
 """
