@@ -20,8 +20,10 @@ influence 7 cm), timed from the start posture (no pair within influence once the
 move off), with the tools held over the workbench side by side (several pairs within
 influence, the dampers not binding) and with both tools pressed down on the workbench
 (the dampers binding: the QP needs one more iteration), beside the same cycle without
-it, the two run in turns of 50 cycles; the time added, the pairs checked and the mean
-number within influence are printed.
+it, the two run in turns of 50 cycles; the ratio is the median over the turns of the
+ratio of their medians (a shared machine's load changes between turns, seldom within
+one); the time added, the pairs checked and the mean number within influence are
+printed.
 
 Usage: ``python bench/controller_cycle.py [--cycles N]``
 """
@@ -259,38 +261,40 @@ def collision_rows(cycles) -> None:
         without = with_collisions(case, world, q0, goals, False)[0]
         step, constraints = with_collisions(case, world, q0, goals, True)
         near = []
-
-        def counted(q, step=step, constraints=constraints, near=near):
-            velocity = step(q)
-            near.append(sum(len(c.witnesses) for c in constraints))
-            return velocity
-
-        plain, timed = interleaved((without, counted), world, case, q, cycles)
+        plain, timed = interleaved((without, step), world, case, q, cycles,
+                                   after=lambda index: index and near.append(
+                                       sum(c.pairs_near for c in constraints)))
         checked = sum(c.pairs_checked for c in constraints)
         base = float(np.median(plain))
-        for name, times, pairs, close in ((f"{label}, without", plain, "", ""),
-                                          (f"{label}, with", timed, checked,
-                                           f"{np.mean(near):.1f}")):
+        turns = np.median(timed, axis=1) / np.median(plain, axis=1)
+        for name, times, ratio, pairs, close in (
+                (f"{label}, without", plain, 1.0, "", ""),
+                (f"{label}, with", timed, float(np.median(turns)), checked,
+                 f"{np.mean(near):.1f}")):
             added = np.median(times) - base
             print(f"{name:<40}{np.median(times) * 1e6:>10.1f}"
                   f"{np.percentile(times, 99) * 1e6:>9.1f}"
-                  f"{np.median(times) / base:>10.2f}x{added * 1e6:>9.1f}{pairs:>7}{close:>6}")
+                  f"{ratio:>10.2f}x{added * 1e6:>9.1f}{pairs:>7}{close:>6}")
 
 
-def interleaved(steps, world, case, q0, cycles, block=50):
-    """Per-cycle times of ``steps``, each integrating its own command from ``q0``, run
-    in turns of ``block`` cycles so that a shared machine's load falls on all alike."""
+def interleaved(steps, world, case, q0, cycles, block=50, after=lambda index: None):
+    """Per-cycle times of ``steps`` (turns x ``block`` arrays), each integrating its own
+    command from ``q0``, run in turns of ``block`` cycles so that a shared machine's load
+    falls on all alike; the first tenth of the turns is left out (warm-up).
+    ``after(index)`` is called, untimed, after each cycle of step ``index``."""
     group = world.joint_group(case["group"])
     states = [q0.copy() for _ in steps]
     times = [[] for _ in steps]
     for _ in range(0, cycles, block):
-        for step, q, spent in zip(steps, states, times):
+        for index, (step, q, spent) in enumerate(zip(steps, states, times)):
             for _ in range(block):
                 start = time.perf_counter()
                 velocity = step(q)
                 spent.append(time.perf_counter() - start)
+                after(index)
                 q[group.q_indices] += velocity * case["time_step"]
-    return [np.array(spent[cycles // 10:]) for spent in times]
+    turns = len(times[0]) // block
+    return [np.array(spent).reshape(turns, block)[turns // 10:] for spent in times]
 
 
 def measure(step, world, case, q0, cycles):

@@ -8,7 +8,8 @@ import pytest
 
 from robocop_dsl.control.kinematics import Kinematics
 from robocop_dsl.world import load_world
-from robocop_dsl.world.collisions import CollisionScene, checked_pairs, reach
+from robocop_dsl.world.collision_scene import CollisionScene
+from robocop_dsl.world.collisions import checked_pairs, reach
 
 WITHIN = 0.08
 

@@ -6,9 +6,11 @@ import pinocchio as pin
 import pytest
 
 from robocop_dsl.control import Controller
+from robocop_dsl.control.constraints.velocity_damper import damper_bounds
 from robocop_dsl.control.exceptions import InvalidParameter, UnknownName
 from robocop_dsl.control.kinematics import Kinematics
-from robocop_dsl.world.collisions import CollisionScene
+from robocop_dsl.world import load_world
+from robocop_dsl.world.collision_scene import CollisionScene
 
 GROUP = "bazar_upper_joints"
 
@@ -67,13 +69,17 @@ def test_rows_are_the_derivative_of_the_distance(bazar):
     assert not np.any(jacobian[len(constraint.witnesses):])
 
 
-def test_a_pair_closing_faster_than_the_damper_brakes_to_a_stop(bazar):
-    _, constraint = _constraint(bazar, damping=4.0)
+def test_a_pair_closing_faster_than_the_damper_brakes_to_a_stop():
+    """Closing faster than the damper allows, a pair is asked to brake to a stop."""
     gap, dt = 0.03, 0.005
-    assert constraint._bound(gap, -0.05) == pytest.approx(-4.0 * gap)
+    assert damper_bounds(-4.0 * gap, -0.05, 4.0, dt) == pytest.approx(-4.0 * gap)
     fast = -0.3
-    assert constraint._bound(gap, fast) == pytest.approx(fast + dt * fast ** 2 / (2 * gap))
-    assert constraint._bound(-0.002, fast) == pytest.approx(4.0 * 0.002)
+    stop = fast + dt * fast ** 2 / (2 * gap)
+    assert damper_bounds(-4.0 * gap, fast, 4.0, dt) == pytest.approx(stop)
+    assert damper_bounds(4.0 * 0.002, fast, 4.0, dt) == pytest.approx(4.0 * 0.002)
+    bounds = damper_bounds(np.array([-4.0 * gap, -2.0 * gap]), np.array([-0.05, fast]),
+                           np.array([4.0, 2.0]), dt)
+    assert bounds == pytest.approx([-4.0 * gap, stop])
 
 
 def test_parameters_are_checked(bazar):
@@ -97,7 +103,7 @@ def test_an_attached_body_carries_its_shapes(bazar):
                                            other="bazar_right_arm", influence=0.2)
     q = world.initial_configuration()
     controller.update_state(q)
-    scene = constraint.scene
+    scene = constraint.watch.scene
     scene.place(controller.kinematics)
     assert scene.clearance() > 0.3
     tool = "bazar_right_hankamp_tool_object_side"
@@ -106,3 +112,54 @@ def test_an_attached_body_carries_its_shapes(bazar):
     controller.kinematics.update(q)
     scene.place(controller.kinematics)
     assert scene.clearance() == pytest.approx(0.06, abs=1e-6)
+
+
+@pytest.mark.parametrize("path", ["bazar/sophia.yaml", "panda/panda_on_table.yaml"])
+def test_joint_columns_give_every_joint_jacobian(path):
+    world = load_world(path)
+    kinematics = Kinematics(world)
+    model = world.model
+    q = pin.randomConfiguration(model, np.maximum(model.lowerPositionLimit, -3.0),
+                                np.minimum(model.upperPositionLimit, 3.0))
+    kinematics.update(q)
+    for joint in range(1, model.njoints):
+        expected = pin.getJointJacobian(model, kinematics.data, joint, pin.WORLD)
+        found = (kinematics.joint_columns * kinematics.supports[joint]) @ kinematics.fold
+        np.testing.assert_allclose(found, expected, atol=1e-12)
+
+
+def test_rows_follow_a_mimic_joint():
+    """The Panda's right finger slides with the left one's coordinate (a mimic joint):
+    its pairs with the table have rows in the gripper's column, the distances' rates (the
+    hand turned so that the fingers open up and down)."""
+    panda = load_world("panda/panda_on_table.yaml")
+    controller = Controller(panda, "panda_gripper", 0.002)
+    constraint = controller.add_constraint("collision_avoidance", "clear", "panda_gripper",
+                                           other="table", influence=3.0)
+    q = panda.initial_configuration()
+    q[panda.joint_group("panda_arm").q_indices] = [0, -0.785, 0, -2.356, 0.8, 1.571, 0.785]
+    q[panda.joint_group("panda_gripper").q_indices] = 0.02
+    controller.update_state(q)
+    assert constraint.rows >= len(constraint.witnesses)
+    jacobian = constraint.compute_jacobian(controller.state)
+    witnesses = constraint.witnesses
+    assert {w.second.body for w in witnesses} == {"panda_leftfinger", "panda_rightfinger"}
+    scene = CollisionScene(panda, [("table", "panda_leftfinger"), ("table", "panda_rightfinger")])
+    kinematics = Kinematics(panda)
+    step = 1e-3     # coal's GJK gives distances to about 1e-6 m
+    for row, witness in enumerate(witnesses):
+        index = next(i for i in range(scene.size)
+                     if (scene.shapes[scene.first[i]].name, scene.shapes[scene.second[i]].name)
+                     == (witness.first.name, witness.second.name))
+
+        def distance(sign, index=index):
+            moved = q.copy()
+            moved[panda.joint_group("panda_gripper").q_indices] += sign * step
+            kinematics.update(moved)
+            scene.place(kinematics)
+            return scene.witness(index).distance
+
+        rate = (distance(1) - distance(-1)) / (2 * step)
+        assert jacobian[row, 0] == pytest.approx(rate, rel=0.01, abs=1e-3)
+    rates = {w.second.body: np.sign(jacobian[row, 0]) for row, w in enumerate(witnesses)}
+    assert rates == {"panda_leftfinger": -1.0, "panda_rightfinger": 1.0}

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from robocop_dsl.runtime import load_mission
-from robocop_dsl.world.collisions import CollisionScene, checked_pairs
+from robocop_dsl.world.collision_scene import CollisionScene
+from robocop_dsl.world.collisions import checked_pairs
 
 REPO = Path(__file__).resolve().parent.parent
 HEADER = 'mission m\nworld "bazar/sophia.yaml"\ncontroller whole_body_controller\n'

@@ -13,8 +13,8 @@ from robocop_dsl.cli.main import main
 from robocop_dsl.control.kinematics import Kinematics
 from robocop_dsl.diagnostics import DiagnosticError
 from robocop_dsl.world import load_world
-from robocop_dsl.world.collisions import (CollisionScene, checked_pairs, collision_geometry,
-                                          set_bodies)
+from robocop_dsl.world.collision_scene import CollisionScene
+from robocop_dsl.world.collisions import checked_pairs, collision_geometry, set_bodies
 
 
 def test_a_joint_group_stands_for_the_bodies_its_joints_move(bazar):

@@ -59,7 +59,8 @@ def check_collision_set(ctx: CheckContext, argument: ast.Name) -> bool:
 def _check_initial_posture(ctx: CheckContext, decl: ast.ConstraintDecl,
                            min_distance: float) -> None:
     from ..control.kinematics import Kinematics
-    from ..world.collisions import CollisionScene, checked_pairs
+    from ..world.collision_scene import CollisionScene
+    from ..world.collisions import checked_pairs
 
     world = ctx.world.world
     first, second = (argument.text for argument in decl.arguments)

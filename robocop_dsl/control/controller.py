@@ -175,7 +175,7 @@ class Controller:
     def remove_constraint(self, name: str) -> None:
         """Remove a constraint."""
         self.constraint(name)
-        del self._constraints[name]
+        self._constraints.pop(name).release()
         self.state.revision += 1
 
     def task(self, name: str) -> Task:

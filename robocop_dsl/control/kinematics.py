@@ -42,8 +42,8 @@ class Kinematics:
         """How many times :meth:`place` has changed the model's frames."""
         self._poses: dict[int, pin.SE3] = {}
         self._jacobians: dict[int, np.ndarray] = {}
-        self._joint_jacobians: dict[int, np.ndarray] = {}
         self._frame_ids: dict[str, int] = {}
+        self.supports, self.fold = _supports(self.model)
 
     def update(self, q: np.ndarray) -> bool:
         """Make ``q`` (nq float array) the current state; ``False`` if it already was."""
@@ -55,7 +55,6 @@ class Kinematics:
         self.stamp += 1
         self._poses = {}
         self._jacobians = {}
-        self._joint_jacobians = {}
         pin.computeJointJacobians(self.model, self.data, self.q)
         return True
 
@@ -91,14 +90,13 @@ class Kinematics:
             self._jacobians[frame_id] = jacobian
         return jacobian
 
-    def joint_jacobian(self, joint: int) -> np.ndarray:
-        """6 x nv ``WORLD`` Jacobian of a joint's body, ``[v0; w]`` with ``v0`` the
-        velocity of the body's point at the world's origin (cached, do not modify)."""
-        jacobian = self._joint_jacobians.get(joint)
-        if jacobian is None:
-            jacobian = pin.getJointJacobian(self.model, self.data, joint, _WORLD)
-            self._joint_jacobians[joint] = jacobian
-        return jacobian
+    @property
+    def joint_columns(self) -> np.ndarray:
+        """6 x nvExtended: the ``WORLD`` Jacobian column of every joint coordinate at the
+        current state, ``[v0; w]`` with ``v0`` the velocity of the moving body's point at
+        the world's origin (pinocchio's ``data.J``; do not modify). The Jacobian of joint
+        ``j``'s body is ``(joint_columns * supports[j]) @ fold``."""
+        return self.data.J
 
     def is_fixed(self, frame_id: int) -> bool:
         """Whether the frame is fixed to the world (no joint moves it)."""
@@ -168,3 +166,19 @@ class Kinematics:
     def __repr__(self) -> str:
         return (f"Kinematics(nq={self.model.nq}, frames={len(self.model.frames)}, "
                 f"stamp={self.stamp})")
+
+
+def _supports(model: pin.Model) -> tuple[np.ndarray, np.ndarray]:
+    """Which joint coordinates move each joint's body (njoints x nvExtended, 0 or 1),
+    and the map from those coordinates to velocity columns (nvExtended x nv: a mimic
+    joint's coordinate onto its primary's column; the scaling is in the columns)."""
+    extended = model.nvExtended
+    supports = np.zeros((model.njoints, extended))
+    fold = np.zeros((extended, model.nv))
+    for joint in range(1, model.njoints):
+        start, width = model.idx_vExtendeds[joint], model.nvExtendeds[joint]
+        supports[joint] = supports[model.parents[joint]]
+        supports[joint, start:start + width] = 1.0
+        column = model.joints[joint].idx_v
+        fold[start:start + width, column:column + width] = np.eye(width)
+    return supports, fold

@@ -26,7 +26,8 @@ class Clearance:
     def __call__(self, kinematics) -> float:
         """The clearance [m] at the current state of ``kinematics`` (``inf`` when no pair
         is checked; negative when two shapes overlap)."""
-        from ..world.collisions import CollisionScene, checked_pairs
+        from ..world.collision_scene import CollisionScene
+        from ..world.collisions import checked_pairs
 
         if self._kinematics is not kinematics:
             world = kinematics.world

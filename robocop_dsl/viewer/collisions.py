@@ -63,7 +63,8 @@ class CollisionLines:
 
     def __init__(self, world, constraints: list[tuple[str, str, float, float]]):
         from ..control.kinematics import Kinematics
-        from ..world.collisions import CollisionScene, checked_pairs
+        from ..world.collision_scene import CollisionScene
+        from ..world.collisions import checked_pairs
 
         self.world = world.copy()
         self.kinematics = Kinematics(self.world)

@@ -61,6 +61,9 @@ class Constraint(ABC):
         """Disable: the controller ignores the constraint."""
         self.enabled = False
 
+    def release(self) -> None:
+        """Hook: the controller no longer holds the constraint."""
+
     @property
     def label(self) -> str:
         """``kind 'name'``, for messages."""

@@ -19,12 +19,15 @@ corner: it may sink below ``min_distance`` by a fraction of a millimetre.
 
 Pairs beyond ``influence`` cost almost nothing: each pair's distance is bounded from
 below by what was measured last minus how far the joints have moved it since
-(:meth:`~robocop_dsl.world.collisions.CollisionScene.near`; a subtraction and a sum
-while the joints have moved too little for any bound to reach influence), coal measures
-only the pairs whose bound falls within influence, and the constraint has rows for
-those alone. The row count grows by four rows when a pair comes within influence and finds
-none free, and shrinks when half of its rows stay unused, so that the QP is rebuilt
-seldom. Unused rows are zero with infinite bounds.
+(:meth:`~robocop_dsl.world.collision_scene.CollisionScene.nearby`; a subtraction and a
+sum while the joints have moved too little for any bound to reach influence), coal
+measures only the pairs whose bound falls within influence, and the constraint has rows
+for those alone. The collision constraints of a controller share one scene
+(:mod:`~robocop_dsl.control.constraints.collision_watch`): their pairs are measured,
+their rows and damper bounds computed, in one vectorised pass per cycle. The row count
+grows by four rows when a pair comes within influence and finds none free, and shrinks
+when half of its rows stay unused, so that the QP is rebuilt seldom. Unused rows are
+zero with infinite bounds.
 """
 
 from __future__ import annotations
@@ -33,11 +36,13 @@ import math
 
 import numpy as np
 
-from ...world.collisions import CollisionScene, Witness, checked_pairs
+from ...world.collision_scene import Witness
+from ...world.collisions import checked_pairs
 from ..exceptions import InvalidParameter, UnknownName
 from ..parameters import scalar_parameter
 from ..state import ControlState
 from .base import Constraint
+from .collision_watch import collision_watch, nothing_near
 
 _ROW_CHUNK = 4
 """Rows are added and removed in multiples of this, to rebuild the QP seldom."""
@@ -83,19 +88,20 @@ class CollisionAvoidanceConstraint(Constraint):
         model = world.model
         pairs = [pair for pair in checked_pairs(world, first, other)
                  if any(_driven_by(model, world.body_frame_id(body), driven) for body in pair)]
-        self.scene = CollisionScene(world, pairs)
+        self.watch = collision_watch(state)
         self._min_distance, self._influence = 0.0, np.inf
         self.influence = influence
         self.min_distance = min_distance
         self.damping = damping
-        self.witnesses: list[Witness] = []
-        """The shape pairs within influence at the last cycle, closest first."""
+        self._pairs_checked = self.watch.add(self, pairs)
+        self._near = nothing_near(self.watch.scene, state.dofs)
         self._stamp, self._written = -1, (-1, -1)
         self._wanted = 0
         self._size = 0
         self._jacobian = np.zeros((0, state.dofs))
         self._lower = np.zeros(0)
         self._upper = np.zeros(0)
+        self._filled = 0
 
     @property
     def min_distance(self) -> float:
@@ -109,7 +115,7 @@ class CollisionAvoidanceConstraint(Constraint):
             raise InvalidParameter(self.label, "min_distance", value,
                                    f"a distance below influence ({self._influence:g} m)")
         self._min_distance = value
-        self._stamp, self._written = -1, (-1, -1)
+        self._retuned()
 
     @property
     def influence(self) -> float:
@@ -123,7 +129,7 @@ class CollisionAvoidanceConstraint(Constraint):
             raise InvalidParameter(self.label, "influence", value,
                                    f"a distance above min_distance ({self._min_distance:g} m)")
         self._influence = value
-        self._stamp, self._written = -1, (-1, -1)
+        self._retuned()
 
     @property
     def damping(self) -> float:
@@ -137,12 +143,27 @@ class CollisionAvoidanceConstraint(Constraint):
             raise InvalidParameter(self.label, "damping", value,
                                    f"less than 1 / time step ({1 / self.state.time_step:g} 1/s)")
         self._damping = value
+        self._retuned()
+
+    def _retuned(self) -> None:
+        """A parameter has changed: the rows are written again."""
         self._stamp, self._written = -1, (-1, -1)
+        self.watch.retune()
 
     @property
     def pairs_checked(self) -> int:
         """Number of shape pairs the constraint watches."""
-        return self.scene.size
+        return self._pairs_checked
+
+    @property
+    def pairs_near(self) -> int:
+        """Number of shape pairs within influence at the last cycle."""
+        return self._near.count
+
+    @property
+    def witnesses(self) -> list[Witness]:
+        """The shape pairs within influence at the last cycle, one per row, in order."""
+        return self._near.witnesses
 
     @property
     def rows(self) -> int:
@@ -157,55 +178,34 @@ class CollisionAvoidanceConstraint(Constraint):
         if self._stamp == kinematics.stamp:
             return
         self._stamp = kinematics.stamp
-        self.witnesses = self.scene.near(kinematics, self._influence)
-        wanted = _ROW_CHUNK * math.ceil(len(self.witnesses) / _ROW_CHUNK)
+        self._near = self.watch.near(self)
+        wanted = _ROW_CHUNK * math.ceil(self._near.count / _ROW_CHUNK)
         if wanted > self._size or 2 * wanted <= self._size:
             self._wanted = wanted
             if wanted != self._size:
                 state.revision += 1
 
     def _write_rows(self, state: ControlState) -> None:
-        """The rows of the pairs within influence, closest first, in :attr:`rows` rows."""
+        """The rows of the pairs within influence in :attr:`rows` rows."""
         self._update(state)
         if self._written == (self._stamp, self._size):
             return
-        self._written = (self._stamp, self._size)
         size = self._size
         if self._jacobian.shape[0] != size:
             self._jacobian = np.zeros((size, state.dofs))
             self._lower = np.full(size, -np.inf)
             self._upper = np.full(size, np.inf)
-        witnesses = self.witnesses[:size]
-        count = len(witnesses)
+            self._filled = 0
+        near = self._near
+        count = min(near.count, size)
         jacobian, lower = self._jacobian, self._lower
-        if count < size:
-            jacobian[count:] = 0.0
-            lower[count:] = -np.inf
-        if not count:
-            return
-        rows = jacobian[:count]
-        rows[:] = self.scene.distance_jacobian(witnesses)[:, state.columns]
-        distances = np.array([w.distance for w in witnesses])
-        lower[:count] = self._bound(distances - self._min_distance, rows @ state.velocity)
-
-    def _bound(self, gap, rate):
-        """Lower bounds of pairs' distance rates [m/s] at ``gap`` [m] from
-        ``min_distance``, when the current velocity gives them ``rate`` [m/s] (arrays or
-        numbers).
-
-        The damper's bound; but when the closest points just jumped (a face of one shape
-        came parallel to the other: the distance is not smooth there) and the pair already
-        closes faster than the damper allows, a velocity jump would be needed: the bound
-        then only asks to brake to a stop at ``min_distance`` (``rate^2 / (2 gap)``).
-        """
-        gap, rate = np.asarray(gap, dtype=float), np.asarray(rate, dtype=float)
-        damper = -self._damping * gap
-        braking = rate < damper
-        if not braking.any():
-            return damper
-        braking &= gap > 0.0
-        stop = rate + self.state.time_step * rate * rate / (2.0 * np.where(braking, gap, 1.0))
-        return np.where(braking, np.minimum(damper, stop), damper)
+        if count < self._filled:
+            jacobian[count:self._filled] = 0.0
+            lower[count:self._filled] = -np.inf
+        self._written, self._filled = (self._stamp, size), count
+        if count:
+            jacobian[:count] = near.rows[:count]
+            lower[:count] = near.bounds[:count]
 
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         self._write_rows(state)
@@ -219,6 +219,9 @@ class CollisionAvoidanceConstraint(Constraint):
         return {"other": self.other, "min_distance": self._min_distance,
                 "influence": self._influence, "damping": self._damping}
 
+    def release(self) -> None:
+        self.watch.remove(self)
+
     def configure(self, **parameters) -> None:
         allowed = ["min_distance", "influence", "damping"]
         unknown = set(parameters) - set(allowed)
@@ -231,11 +234,12 @@ class CollisionAvoidanceConstraint(Constraint):
 
 
 def _driven_by(model, frame: int, columns: set) -> bool:
-    """Whether one of the velocity coordinates ``columns`` moves frame ``frame``."""
+    """Whether one of the velocity coordinates ``columns`` moves frame ``frame`` (a
+    mimic joint moving with its primary's coordinate)."""
     joint = model.frames[frame].parentJoint
     while joint > 0:
         start = model.joints[joint].idx_v
-        if any(v in columns for v in range(start, start + model.joints[joint].nv)):
+        if any(v in columns for v in range(start, start + model.nvExtendeds[joint])):
             return True
         joint = model.parents[joint]
     return False
