@@ -118,3 +118,34 @@ def test_rows_come_in_the_order_of_the_witnesses(bazar, name):
     for witness, bound in zip(constraint.witnesses, lower):
         assert bound == pytest.approx(-5.0 * (witness.distance - 0.01))
     assert len(pairs) == len(jacobian) == len(lower)
+
+
+def test_rows_follow_the_robot_while_the_same_pairs_stay_near(bazar):
+    """Moving a little at a time, the same pairs stay within influence and what depends
+    on them alone is kept from state to state; the rows still are those of the state
+    (the controlled columns of BAZAR's upper joints are not a slice of the model's: the
+    Jacobian's columns are taken again at each state)."""
+    q = _configuration(bazar)
+    controller, constraints = _controller(bazar, ["bench", "self"])
+    arms = bazar.joint_group("bazar_arms").q_indices
+    direction = np.random.default_rng(7).normal(size=len(arms))
+    state = controller.state
+    assert not isinstance(state.columns, slice)
+    kept, previous = 0, None
+    for _ in range(10):
+        q = q.copy()
+        q[arms] += 1e-5 * direction
+        for name in ("bench", "self"):
+            constraint = constraints[name]
+            _, jacobian, _ = _rows(controller, constraint, q, np.zeros(16))
+            seen = constraint.watch.seen
+            kept += seen.nearby.pairs is previous
+            previous = seen.nearby.pairs
+            scene = constraint.watch.scene
+            kept_key, kept_basis = scene._basis_key, scene._basis
+            scene._basis_key = ()       # the rows again, from nothing kept
+            fresh = scene.distance_rows(seen.nearby, state.columns)
+            scene._basis_key, scene._basis = kept_key, kept_basis
+            first = constraint._span[0]
+            np.testing.assert_allclose(jacobian, fresh[first:first + len(jacobian)], atol=1e-12)
+    assert kept >= 15, "the same pairs were not followed from state to state"

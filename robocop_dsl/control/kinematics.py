@@ -94,8 +94,9 @@ class Kinematics:
     def joint_columns(self) -> np.ndarray:
         """6 x nvExtended: the ``WORLD`` Jacobian column of every joint coordinate at the
         current state, ``[v0; w]`` with ``v0`` the velocity of the moving body's point at
-        the world's origin (pinocchio's ``data.J``; do not modify). The Jacobian of joint
-        ``j``'s body is ``(joint_columns * supports[j]) @ fold``."""
+        the world's origin (a view of pinocchio's ``data.J``, which every state updates in
+        place; do not modify). The Jacobian of joint ``j``'s body is
+        ``(joint_columns * supports[j]) @ fold``."""
         return self.data.J
 
     def is_fixed(self, frame_id: int) -> bool:

@@ -129,6 +129,12 @@ class CollisionScene:
         self.data = pin.GeometryData(self.model)
         for request in self.data.distanceRequests:
             request.enable_signed_distance = True
+        self.data.deactivateAllCollisionPairs()
+        self._results = list(self.data.distanceResults)
+        """Each pair's coal result, updated in place by every measure."""
+        self._active: set[int] = set()
+        self._active_of: np.ndarray | None = None
+        self._active_results: list = []
         self.frames = [world.body_frame_id(body) for body in bodies]
         """Frame id of each body of the scene."""
         self._frame_of = [world.body_frame_id(shape.body) for shape in self.shapes]
@@ -149,17 +155,19 @@ class CollisionScene:
         """Each pair's longest lever in ``_pair_reach`` [m per unit]."""
         self._lower = np.zeros(len(first))
         self._pair_shapes = [(self.shapes[a], self.shapes[b]) for a, b in zip(first, second)]
-        self._was_near: list[int] = []
+        self._was_near = np.zeros(0, dtype=int)
+        self._was_near_within = np.zeros(0)
         self._reference = np.zeros(0)
         self._moved = np.zeros(world.model.nq)
+        self._ones = np.ones(world.model.nq)
         self._within = np.nan
         self._still = -np.inf
         self._pair_signs = np.zeros((len(first), 0))
         """Per pair, +1 for the joint coordinates that move only its second shape, -1 for
         those that move only its first (pairs x nvExtended), as bound by
         :meth:`_place_shapes`."""
-        self._fold_key = None
-        self._fold: np.ndarray | None = None
+        self._basis_key: tuple = ()
+        self._basis: tuple = ()
 
     @property
     def size(self) -> int:
@@ -198,7 +206,8 @@ class CollisionScene:
         if self._placed == self._stamp:
             return
         kinematics = self._kinematics
-        if self._bound_to != (kinematics, kinematics.placements):
+        bound = self._bound_to
+        if bound is None or bound[0] is not kinematics or bound[1] != kinematics.placements:
             self._bound_to = (kinematics, kinematics.placements)
             frames = kinematics.model.frames
             joints = []
@@ -213,20 +222,35 @@ class CollisionScene:
         pin.updateGeometryPlacements(kinematics.model, kinematics.data, self.model, self.data)
         self._placed = self._stamp
 
-    def measure(self, indices: list[int]) -> Nearby:
-        """Coal's distances, closest points and normals of shape pairs ``indices``, in
-        their order, at the state of the last :meth:`place` or :meth:`nearby`."""
-        if not indices:
+    def measure(self, indices: np.ndarray) -> Nearby:
+        """Coal's distances, closest points and normals of shape pairs ``indices`` (an
+        int array, kept as the result's ``pairs``), in their order, at the state of the
+        last :meth:`place` or :meth:`nearby`."""
+        if not indices.size:
             return NOTHING_NEAR
         self._place_shapes()
-        compute, model, data = pin.computeDistance, self.model, self.data
-        results = [compute(model, data, index) for index in indices]
+        results = self._activate(indices)
+        pin.computeDistances(self.model, self.data)
         vectors = np.concatenate([vector for result in results
                                   for vector in (result.getNearestPoint1(), result.normal)])
         vectors = vectors.reshape(-1, 2, 3)
-        return Nearby(np.array(indices, dtype=int),
-                      np.array([result.min_distance for result in results]),
+        return Nearby(indices, np.array([result.min_distance for result in results]),
                       vectors[:, 0], vectors[:, 1])
+
+    def _activate(self, indices: np.ndarray) -> list:
+        """Make pairs ``indices`` the only ones pinocchio's ``computeDistances`` measures
+        (kept while the same array comes back); their results, in order."""
+        if indices is not self._active_of:
+            wanted = indices.tolist()
+            active, data = self._active, self.data
+            for index in active.difference(wanted):
+                data.deactivateCollisionPair(index)
+            for index in set(wanted).difference(active):
+                data.activateCollisionPair(index)
+            self._active = set(wanted)
+            self._active_of = indices
+            self._active_results = [self._results[index] for index in wanted]
+        return self._active_results
 
     def witnesses(self, nearby: Nearby) -> list[Witness]:
         """The pairs of ``nearby`` as :class:`Witness` records, in its order."""
@@ -240,11 +264,11 @@ class CollisionScene:
     def witness(self, index: int) -> Witness:
         """Distance, closest points and normal of shape pair ``index`` (after :meth:`place`
         or :meth:`nearby`)."""
-        return self.witnesses(self.measure([int(index)]))[0]
+        return self.witnesses(self.measure(np.array([index], dtype=int)))[0]
 
     def closest(self, below: float = np.inf) -> list[Witness]:
         """Every shape pair closer than ``below`` [m], closest first (after :meth:`place`)."""
-        measured = self.measure(np.flatnonzero(self.box_distances() < below).tolist())
+        measured = self.measure(np.flatnonzero(self.box_distances() < below))
         return _by_distance(self.witnesses(_closer(measured, below)))
 
     def near(self, kinematics, within) -> list[Witness]:
@@ -284,17 +308,17 @@ class CollisionScene:
             np.subtract(q, self._reference, out=moved)
             np.abs(moved, out=moved)
             if (within is self._within or _same(within, self._within)) \
-                    and moved.sum() < self._still:
-                return _closer(self.measure(self._was_near), within)
+                    and moved.dot(self._ones) < self._still:
+                return _closer(self.measure(self._was_near), self._was_near_within)
         lower = self._lower - self._pair_reach @ moved
         candidates = np.flatnonzero(lower < within)
         if np.setdiff1d(candidates, self._was_near).size > _MEASURED_ALONE:
             self._renew_all(kinematics)
             lower = self._lower
             candidates = np.flatnonzero(lower < within)
-        measured = self.measure(candidates.tolist())
+        measured = self.measure(candidates)
         lower[candidates] = measured.distances
-        found = _closer(measured, within)
+        found = _closer(measured, within[candidates] if np.ndim(within) else within)
         self._follow_from(q, lower, within, found.pairs)
         return found
 
@@ -305,7 +329,8 @@ class CollisionScene:
         self._reference[:] = q
         self._lower = lower
         self._within = within
-        self._was_near = near.tolist()
+        self._was_near = near
+        self._was_near_within = within[near] if np.ndim(within) else within
         margins = (lower - within) / self._levers
         margins[near] = np.inf
         self._still = float(np.min(margins, initial=np.inf))
@@ -323,24 +348,40 @@ class CollisionScene:
         one product with every coordinate's column
         (:attr:`~robocop_dsl.control.kinematics.Kinematics.joint_columns`), signed by the
         coordinates that move one shape and not the other."""
-        kinematics = self._kinematics
         normals = nearby.normals
         moments = (nearby.points[:, :, None] * normals[:, None, :]).reshape(-1, 9) @ _CROSS
-        rates = np.concatenate((normals, moments), axis=1) @ kinematics.joint_columns
-        rates *= self._pair_signs[nearby.pairs]
-        fold = self._folded(kinematics, columns)
-        return rates[:, columns] if fold is None else rates @ fold
+        columns_of, select, signs, fold = self._rates_basis(nearby.pairs, columns)
+        if select is not None:
+            columns_of = columns_of[:, select]
+        rates = np.concatenate((normals, moments), axis=1) @ columns_of
+        rates *= signs
+        return rates if fold is None else rates @ fold
 
-    def _folded(self, kinematics, columns) -> np.ndarray | None:
-        """The kinematics' fold restricted to ``columns`` (kept for the last columns), or
-        ``None`` when the model has no mimic joint."""
-        key = self._fold_key
-        if key is None or key[0] is not kinematics or key[1] is not columns:
-            self._fold_key = (kinematics, columns)
+    def _rates_basis(self, pairs: np.ndarray, columns) -> tuple:
+        """What the rates of ``pairs`` are taken against, as ``(columns_of, select,
+        signs, fold)``: ``columns_of`` is a view of the kinematics' joint columns that
+        follows its state, restricted to ``columns`` when that is a slice and the model
+        has no mimic joint; else ``select`` (``columns``, or ``None``) restricts it at
+        each state. ``signs`` are the pairs' coordinate signs over the rates' columns,
+        ``fold`` the fold onto ``columns`` (``None`` without mimic joints). Kept while
+        the same array of pairs, the same columns and the same binding of the shapes
+        come back."""
+        known = self._basis_key
+        if not (known and known[0] is pairs and known[1] is columns
+                and known[2] is self._bound_to):
+            kinematics = self._kinematics
             fold = kinematics.fold
-            self._fold = (None if fold.shape[0] == fold.shape[1]
-                          else np.ascontiguousarray(fold[:, columns]))
-        return self._fold
+            signs = self._pair_signs[pairs]
+            if fold.shape[0] == fold.shape[1]:
+                view, select = kinematics.joint_columns, columns
+                if isinstance(columns, slice):
+                    view, select = view[:, columns], None
+                self._basis = (view, select, np.ascontiguousarray(signs[:, columns]), None)
+            else:
+                self._basis = (kinematics.joint_columns, None, signs,
+                               np.ascontiguousarray(fold[:, columns]))
+            self._basis_key = (pairs, columns, self._bound_to)
+        return self._basis
 
     def _renew_all(self, kinematics) -> None:
         """Bound every pair by its boxes at the current state."""
@@ -361,9 +402,9 @@ class CollisionScene:
 
 def _closer(measured: Nearby, within) -> Nearby:
     """The pairs of ``measured`` closer than ``within`` [m] (one distance, or one per
-    pair of the scene), in its order."""
-    keep = measured.distances < (within[measured.pairs] if np.ndim(within) else within)
-    return measured if keep.all() else measured.subset(keep)
+    pair of ``measured``), in its order: ``measured`` itself when all are."""
+    keep = measured.distances < within
+    return measured if np.count_nonzero(keep) == keep.size else measured.subset(keep)
 
 
 def _by_distance(witnesses: list[Witness]) -> list[Witness]:

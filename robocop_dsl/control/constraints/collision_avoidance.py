@@ -32,8 +32,6 @@ zero with infinite bounds.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ...world.collision_scene import Witness
@@ -42,7 +40,7 @@ from ..exceptions import InvalidParameter, UnknownName
 from ..parameters import scalar_parameter
 from ..state import ControlState
 from .base import Constraint
-from .collision_watch import collision_watch, nothing_near
+from .collision_watch import collision_watch
 
 _ROW_CHUNK = 4
 """Rows are added and removed in multiples of this, to rebuild the QP seldom."""
@@ -94,7 +92,8 @@ class CollisionAvoidanceConstraint(Constraint):
         self.min_distance = min_distance
         self.damping = damping
         self._pairs_checked = self.watch.add(self, pairs)
-        self._near = nothing_near(self.watch.scene, state.dofs)
+        self._seen = self.watch.seen
+        self._span = (0, 0)
         self._stamp, self._written = -1, (-1, -1)
         self._wanted = 0
         self._size = 0
@@ -158,12 +157,13 @@ class CollisionAvoidanceConstraint(Constraint):
     @property
     def pairs_near(self) -> int:
         """Number of shape pairs within influence at the last cycle."""
-        return self._near.count
+        first, end = self._span
+        return end - first
 
     @property
     def witnesses(self) -> list[Witness]:
         """The shape pairs within influence at the last cycle, one per row, in order."""
-        return self._near.witnesses
+        return self._seen.witnesses(self._span)
 
     @property
     def rows(self) -> int:
@@ -178,8 +178,10 @@ class CollisionAvoidanceConstraint(Constraint):
         if self._stamp == kinematics.stamp:
             return
         self._stamp = kinematics.stamp
-        self._near = self.watch.near(self)
-        wanted = _ROW_CHUNK * math.ceil(self._near.count / _ROW_CHUNK)
+        watch = self.watch
+        self._span = first, end = watch.span(self)
+        self._seen = watch.seen
+        wanted = _ROW_CHUNK * -((first - end) // _ROW_CHUNK)
         if wanted > self._size or 2 * wanted <= self._size:
             self._wanted = wanted
             if wanted != self._size:
@@ -196,16 +198,17 @@ class CollisionAvoidanceConstraint(Constraint):
             self._lower = np.full(size, -np.inf)
             self._upper = np.full(size, np.inf)
             self._filled = 0
-        near = self._near
-        count = min(near.count, size)
+        first, end = self._span
+        count = min(end - first, size)
         jacobian, lower = self._jacobian, self._lower
         if count < self._filled:
             jacobian[count:self._filled] = 0.0
             lower[count:self._filled] = -np.inf
         self._written, self._filled = (self._stamp, size), count
         if count:
-            jacobian[:count] = near.rows[:count]
-            lower[:count] = near.bounds[:count]
+            seen = self._seen
+            jacobian[:count] = seen.rows[first:first + count]
+            lower[:count] = seen.bounds[first:first + count]
 
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         self._write_rows(state)

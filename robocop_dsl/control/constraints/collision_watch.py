@@ -6,7 +6,9 @@ The constraints of a controller share one
 them all, each constraint's pairs one after the other. At each state, the first
 constraint to ask runs the broad phase, coal, the distance rates and the damper bounds
 of every pair within its constraint's influence in a few vectorised passes; each
-constraint then takes its own span of the result, which needs no copy.
+constraint then takes its own span of the result. While the same pairs stay within
+influence, what depends on them alone (each constraint's span, the damper's parameters)
+is kept from cycle to cycle.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from ..state import ControlState
 from .velocity_damper import damper_bounds
 
 _WATCHES: WeakKeyDictionary = WeakKeyDictionary()
+_NO_SPAN = (0, 0)
 
 
 def collision_watch(state: ControlState) -> CollisionWatch:
@@ -34,34 +37,26 @@ def collision_watch(state: ControlState) -> CollisionWatch:
     return watch
 
 
-class Near(NamedTuple):
-    """What one constraint watches within its influence at one state."""
+class Seen(NamedTuple):
+    """Every watched pair within its constraint's influence at one state."""
 
     scene: CollisionScene
     nearby: Nearby
-    """Every constraint's pairs within influence."""
-    span: slice
-    """This constraint's part of ``nearby``."""
+    """The pairs, each constraint's one after the other."""
     rows: np.ndarray
     """How fast each distance changes per command (pairs x dofs) [m/s per rad/s or m/s]."""
     bounds: np.ndarray
     """Lower bounds of the distances' rates [m/s]."""
 
-    @property
-    def count(self) -> int:
-        """Number of pairs within influence."""
-        return self.span.stop - self.span.start
-
-    @property
-    def witnesses(self) -> list[Witness]:
-        """The pairs as :class:`~robocop_dsl.world.collision_scene.Witness` records, one
-        per row of the constraint, in order."""
-        return self.scene.witnesses(self.nearby.subset(self.span))
+    def witnesses(self, span: tuple[int, int]) -> list[Witness]:
+        """The pairs ``span`` (first, end) as
+        :class:`~robocop_dsl.world.collision_scene.Witness` records, in order."""
+        return self.scene.witnesses(self.nearby.subset(slice(*span)))
 
 
-def nothing_near(scene: CollisionScene, dofs: int) -> Near:
+def nothing_seen(scene: CollisionScene, dofs: int) -> Seen:
     """No pair within influence."""
-    return Near(scene, NOTHING_NEAR, slice(0, 0), np.zeros((0, dofs)), np.zeros(0))
+    return Seen(scene, NOTHING_NEAR, np.zeros((0, dofs)), np.zeros(0))
 
 
 class CollisionWatch:
@@ -84,7 +79,11 @@ class CollisionWatch:
         self._damper = np.zeros((2, 0))
         """Per shape pair, ``damping * min_distance`` [m/s] and ``damping`` [1/s]."""
         self._stamp = -1
-        self._near: dict[int, Near] = {}
+        self._spans: dict[int, tuple[int, int]] = {}
+        self._spans_of: np.ndarray | None = None
+        self._offset = self._damping = np.zeros(0)
+        self.seen = nothing_seen(self.scene, state.dofs)
+        """What the last look at a state found."""
 
     def add(self, owner, pairs: list[tuple[str, str]]) -> int:
         """Watch ``pairs`` of bodies for ``owner`` (a constraint with ``enabled``,
@@ -110,26 +109,28 @@ class CollisionWatch:
         self._starts = [0, *itertools.accumulate(counts)]
         self._key = None
         self._stamp = -1
+        self.seen = nothing_seen(self.scene, self.state.dofs)
 
     def retune(self) -> None:
         """An owner's ``influence``, ``min_distance`` or ``damping`` has changed."""
         self._tuning += 1
 
-    def near(self, owner) -> Near:
-        """The pairs ``owner`` watches within its influence at the current state."""
+    def span(self, owner) -> tuple[int, int]:
+        """The part of :attr:`seen` that holds the pairs ``owner`` watches within its
+        influence at the current state: ``(first, end)``."""
         kinematics = self.state.kinematics
         key = (self.state.revision, self._tuning)
         if self._stamp != kinematics.stamp or key != self._key:
             self._stamp = kinematics.stamp
             self._look(key)
-        near = self._near.get(id(owner))
-        return nothing_near(self.scene, self.state.dofs) if near is None else near
+        return self._spans.get(id(owner), _NO_SPAN)
 
     def _look(self, key: tuple) -> None:
         """Every owner's pairs within influence at the current state, rows and bounds
         included; ``key`` tells whether the owners' parameters may have changed."""
         if key != self._key:
             self._key = key
+            self._spans_of = None
             counts = np.diff(self._starts)
             self._within = np.repeat([owner.influence if owner.enabled else -np.inf
                                       for owner in self._owners], counts)
@@ -137,17 +138,18 @@ class CollisionWatch:
                                       for owner in self._owners], counts, axis=0).T.copy()
         state, scene = self.state, self.scene
         nearby = scene.nearby(state.kinematics, self._within)
-        self._near = {}
-        if not nearby.pairs.size:
-            return
         pairs = nearby.pairs
+        if not pairs.size:
+            self.seen, self._spans = nothing_seen(scene, state.dofs), {}
+            return
+        if pairs is not self._spans_of:
+            self._spans_of = pairs
+            self._offset, self._damping = self._damper[:, pairs]
+            found = pairs.tolist()
+            cuts = [bisect_left(found, start) for start in self._starts]
+            self._spans = {id(owner): (start, end) for owner, start, end
+                           in zip(self._owners, cuts, cuts[1:]) if end > start}
         rows = scene.distance_rows(nearby, state.columns)
-        offset, damping = self._damper[:, pairs]
-        bounds = damper_bounds(offset - damping * nearby.distances, rows @ state.velocity,
-                               damping, state.time_step)
-        found = pairs.tolist()
-        cuts = [bisect_left(found, start) for start in self._starts]
-        for owner, start, end in zip(self._owners, cuts, cuts[1:]):
-            if end > start:
-                self._near[id(owner)] = Near(scene, nearby, slice(start, end),
-                                             rows[start:end], bounds[start:end])
+        bounds = damper_bounds(self._offset - self._damping * nearby.distances,
+                               rows @ state.velocity, self._damping, state.time_step)
+        self.seen = Seen(scene, nearby, rows, bounds)

@@ -17,7 +17,7 @@ def damper_bounds(damper, rate, damping, time_step: float) -> np.ndarray:
     over one ``time_step`` [s]).
     """
     braking = np.less(rate, damper)
-    if not braking.any():
+    if not np.count_nonzero(braking):
         return damper
     gap = np.divide(damper, -damping)
     braking &= gap > 0.0
