@@ -3,7 +3,6 @@
 import re
 import shutil
 import subprocess
-import textwrap
 from pathlib import Path
 
 import pytest

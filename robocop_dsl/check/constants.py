@@ -12,12 +12,11 @@ from __future__ import annotations
 from ..diagnostics import did_you_mean
 from ..lang import ast
 from ..lang.catalogue import FEEDBACKS, INTERPOLATORS
-from ..lang.units import LENGTH
 from .behaviors import WORDS, kind_of_name
 from .bindings import Binding, substitute
 from .context import CheckContext, finite
 from .parameters import check_body
-from .values import check_offset, check_vector, unit_of
+from .values import check_offset, unit_of
 
 _LARGEST = "numbers are at most about 1.8e308"
 

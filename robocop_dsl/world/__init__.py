@@ -3,7 +3,8 @@
 from .assembly import BodyInfo
 from .paths import resolve_world_path, robots_path
 from .urdf import JointInfo
-from .world import JointGroup, Processor, World, load_world
+from .processors import Processor
+from .world import JointGroup, World, load_world
 
 __all__ = ["World", "JointGroup", "JointInfo", "BodyInfo", "Processor", "load_world",
            "resolve_world_path", "robots_path"]

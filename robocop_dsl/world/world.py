@@ -15,7 +15,7 @@ from ..diagnostics import Diagnostic, DiagnosticError
 from . import paths
 from .assembly import Assembly, BodyInfo, assemble
 from .description import WorldDescription, read_description
-from .processors import Names, Processor, check_processors
+from .processors import Names, check_processors
 from .urdf import JointInfo
 
 if TYPE_CHECKING:
