@@ -163,3 +163,34 @@ def test_rows_follow_a_mimic_joint():
         assert jacobian[row, 0] == pytest.approx(rate, rel=0.01, abs=1e-3)
     rates = {w.second.body: np.sign(jacobian[row, 0]) for row, w in enumerate(witnesses)}
     assert rates == {"panda_leftfinger": -1.0, "panda_rightfinger": 1.0}
+
+
+def test_rows_written_into_the_qp_are_the_constraints_own(bazar):
+    """The rows the constraint writes straight into the QP are those of its hooks, as
+    pairs come and go: 6 pairs, 5 (same QP, a stale row cleared), 3 (the QP keeps its
+    rows for this cycle), none (the QP has shrunk to none), 6 (the QP grows at the next
+    cycle), 6; the velocity limit's rows stay as they are."""
+    over = np.array([-0.15, 1.2, 0, -2.0, 0, -1.6, 0, 0.15, 1.2, 0, -1.4, 0, 1.0, 0])
+    controller = Controller(bazar, GROUP, 0.005)
+    speed = controller.add_constraint("body_velocity", "speed",
+                                      "bazar_left_hankamp_tool_object_side", max_linear=0.5)
+    clear = controller.add_constraint("collision_avoidance", "clear", "bazar_arms",
+                                      other="workbench", influence=0.25)
+    arms = bazar.joint_group("bazar_arms").q_indices
+    counts = []
+    for share in (1.0, 0.95, 0.9, 0.0, 1.0, 1.0):
+        q = bazar.initial_configuration()
+        q[arms] = share * over + (1 - share) * q[arms]
+        assert controller.compute(q).solved
+        problem = controller.problems[0]
+        counts.append((clear.pairs_near, len(problem.C) - speed.rows))
+        state = controller.state
+        jacobian = np.vstack([speed.compute_jacobian(state), clear.compute_jacobian(state)])
+        lower = np.concatenate([speed.compute_bounds(state)[0], clear.compute_bounds(state)[0]])
+        upper = np.concatenate([speed.compute_bounds(state)[1], clear.compute_bounds(state)[1]])
+        np.testing.assert_array_equal(problem.C, jacobian)
+        np.testing.assert_array_equal(problem.l, lower)
+        np.testing.assert_array_equal(problem.u, upper)
+        unused = speed.rows + clear.pairs_near
+        assert not problem.C[unused:].any() and np.all(np.isneginf(problem.l[unused:]))
+    assert counts == [(6, 8), (5, 8), (3, 8), (0, 0), (6, 0), (6, 8)]

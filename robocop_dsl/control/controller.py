@@ -32,7 +32,8 @@ class _Plan:
     hierarchy: Hierarchy
     full_box: Constraint | None
     boxes: list[Constraint]
-    rows: list[tuple[Constraint, slice]]
+    rows: list[tuple[Constraint, np.ndarray, np.ndarray, np.ndarray]]
+    """Each row constraint with its rows of the QP's ``C``, ``l`` and ``u`` (views)."""
 
 
 class Controller:
@@ -299,15 +300,17 @@ class Controller:
         everything = np.arange(self.state.dofs)
         boxes = [c for c in constraints if c.box_columns is not None]
         first = next((c for c in boxes if np.array_equal(c.box_columns, everything)), None)
-        rows, count = [], 0
+        spans, count = [], 0
         for constraint in constraints:
             if constraint.box_columns is None:
-                rows.append((constraint, slice(count, count + constraint.rows)))
+                spans.append((constraint, slice(count, count + constraint.rows)))
                 count += constraint.rows
         hierarchy = Hierarchy(levels, [task.name for task in tasks],
                               [task.dimension for task in tasks], self.state.dofs, count,
                               [make_solver(self.solver) for _ in levels], self.damping,
                               self.lm_damping)
+        rows = [(constraint, hierarchy.C[span], hierarchy.l[span], hierarchy.u[span])
+                for constraint, span in spans]
         plan = _Plan(self.state.revision,
                      [(task, hierarchy.task_rows(index)) for index, task in enumerate(tasks)],
                      hierarchy, first, [c for c in boxes if c is not first], rows)
@@ -332,11 +335,8 @@ class Controller:
             columns = constraint.box_columns
             lower[columns] = np.maximum(lower[columns], low)
             upper[columns] = np.minimum(upper[columns], high)
-        for constraint, rows in plan.rows:
-            hierarchy.l[rows], hierarchy.u[rows] = _part(
-                "constraint", constraint, constraint.compute_bounds, state)
-            hierarchy.C[rows] = _part("constraint", constraint,
-                                      constraint.compute_jacobian, state)
+        for constraint, jacobian, low, high in plan.rows:
+            _part("constraint", constraint, constraint.write_rows, state, jacobian, low, high)
         if np.count_nonzero(np.greater(lower, upper)):
             return False
         return not (plan.rows and np.count_nonzero(np.greater(hierarchy.l, hierarchy.u)))
@@ -371,10 +371,10 @@ def _unbounded_reference(tasks: list[tuple[Task, slice]], objectives: list[Objec
     return None
 
 
-def _part(role: str, part, method, state):
-    """``method(state)`` of ``part``, a ``role`` (task or constraint); whatever it
-    raises comes out as :class:`PartFailed` naming the part."""
+def _part(role: str, part, method, state, *arguments):
+    """``method(state, *arguments)`` of ``part``, a ``role`` (task or constraint);
+    whatever it raises comes out as :class:`PartFailed` naming the part."""
     try:
-        return method(state)
+        return method(state, *arguments)
     except Exception as error:  # named for whoever reports it
         raise PartFailed(f"{role} '{part.name}'", error) from error

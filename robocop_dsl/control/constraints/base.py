@@ -43,6 +43,14 @@ class Constraint(ABC):
     def compute_bounds(self, state: ControlState) -> tuple[np.ndarray, np.ndarray]:
         """Hook: lower and upper bounds of the rows (``inf`` where unbounded)."""
 
+    def write_rows(self, state: ControlState, jacobian: np.ndarray, lower: np.ndarray,
+                   upper: np.ndarray) -> None:
+        """Write the rows into the QP: ``jacobian`` (rows x dofs), ``lower`` and
+        ``upper`` are views of the QP's arrays, the same objects from cycle to cycle
+        while the QP's structure lasts. By default, the hooks' results copied in."""
+        lower[:], upper[:] = self.compute_bounds(state)
+        jacobian[:] = self.compute_jacobian(state)
+
     @property
     def enabled(self) -> bool:
         """Whether the constraint holds."""

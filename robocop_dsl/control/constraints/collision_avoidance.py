@@ -101,6 +101,8 @@ class CollisionAvoidanceConstraint(Constraint):
         self._lower = np.zeros(0)
         self._upper = np.zeros(0)
         self._filled = 0
+        self._target: np.ndarray | None = None
+        self._target_filled = 0
 
     @property
     def min_distance(self) -> float:
@@ -188,7 +190,8 @@ class CollisionAvoidanceConstraint(Constraint):
                 state.revision += 1
 
     def _write_rows(self, state: ControlState) -> None:
-        """The rows of the pairs within influence in :attr:`rows` rows."""
+        """The rows of the pairs within influence in :attr:`rows` rows of the
+        constraint's own arrays (for :meth:`compute_jacobian` and :meth:`compute_bounds`)."""
         self._update(state)
         if self._written == (self._stamp, self._size):
             return
@@ -198,17 +201,33 @@ class CollisionAvoidanceConstraint(Constraint):
             self._lower = np.full(size, -np.inf)
             self._upper = np.full(size, np.inf)
             self._filled = 0
+        self._written = (self._stamp, size)
+        self._filled = self._fill(self._jacobian, self._lower, self._filled)
+
+    def write_rows(self, state: ControlState, jacobian: np.ndarray, lower: np.ndarray,
+                   upper: np.ndarray) -> None:
+        """The rows straight into the QP's arrays; only the rows that held pairs and no
+        longer do are cleared."""
+        self._update(state)
+        if jacobian is not self._target:
+            self._target, self._target_filled = jacobian, len(lower)
+            upper[:] = np.inf
+        self._target_filled = self._fill(jacobian, lower, self._target_filled)
+
+    def _fill(self, jacobian: np.ndarray, lower: np.ndarray, filled: int) -> int:
+        """Write the pairs within influence into ``jacobian`` and ``lower``, the rows
+        after them zero and ``-inf`` (``filled`` rows held pairs before); returns how
+        many rows hold pairs now."""
         first, end = self._span
-        count = min(end - first, size)
-        jacobian, lower = self._jacobian, self._lower
-        if count < self._filled:
-            jacobian[count:self._filled] = 0.0
-            lower[count:self._filled] = -np.inf
-        self._written, self._filled = (self._stamp, size), count
+        count = min(end - first, len(lower))
+        if count < filled:
+            jacobian[count:filled] = 0.0
+            lower[count:filled] = -np.inf
         if count:
             seen = self._seen
             jacobian[:count] = seen.rows[first:first + count]
             lower[:count] = seen.bounds[first:first + count]
+        return count
 
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
         self._write_rows(state)
