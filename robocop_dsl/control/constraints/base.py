@@ -12,9 +12,11 @@ from ..state import ControlState
 class Constraint(ABC):
     """``lower <= J dq <= upper`` for the command ``dq``, enabled when created.
 
-    Subclasses implement :meth:`compute_jacobian` and :meth:`compute_bounds`. A
-    constraint whose rows are joint velocities sets :attr:`box_columns` (the columns of
-    the command it bounds) so the solver can treat it as box bounds.
+    Subclasses implement :meth:`compute_jacobian` and :meth:`compute_bounds`; the
+    controller puts their rows into the QP through :meth:`write_rows`, which a subclass
+    may override to write them in place. A constraint whose rows are joint velocities
+    sets :attr:`box_columns` (the columns of the command it bounds) so the solver can
+    treat it as box bounds.
 
     Args:
         name: The constraint's name.
