@@ -296,7 +296,9 @@ class CollisionScene:
         q = kinematics.q
         self._kinematics, self._stamp = kinematics, kinematics.stamp
         moved = self._moved
-        if self._followed != (kinematics, kinematics.placements):
+        followed = self._followed
+        if followed is None or followed[0] is not kinematics \
+                or followed[1] != kinematics.placements:
             self._followed = (kinematics, kinematics.placements)
             shape_reach = reach(kinematics.model, self._frame_of, self._centers, self._half)
             self._pair_reach = shape_reach[self.first] + shape_reach[self.second]

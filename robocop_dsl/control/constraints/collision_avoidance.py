@@ -219,7 +219,9 @@ class CollisionAvoidanceConstraint(Constraint):
         after them zero and ``-inf`` (``filled`` rows held pairs before); returns how
         many rows hold pairs now."""
         first, end = self._span
-        count = min(end - first, len(lower))
+        count = end - first
+        if count > lower.shape[0]:
+            count = lower.shape[0]
         if count < filled:
             jacobian[count:filled] = 0.0
             lower[count:filled] = -np.inf

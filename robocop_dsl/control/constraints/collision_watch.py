@@ -79,7 +79,7 @@ class CollisionWatch:
         self._damper = np.zeros((2, 0))
         """Per shape pair, ``damping * min_distance`` [m/s] and ``damping`` [1/s]."""
         self._stamp = -1
-        self._spans: dict[int, tuple[int, int]] = {}
+        self._spans: dict = {}
         self._spans_of: np.ndarray | None = None
         self._offset = self._damping = np.zeros(0)
         self.seen = nothing_seen(self.scene, state.dofs)
@@ -118,12 +118,12 @@ class CollisionWatch:
     def span(self, owner) -> tuple[int, int]:
         """The part of :attr:`seen` that holds the pairs ``owner`` watches within its
         influence at the current state: ``(first, end)``."""
-        kinematics = self.state.kinematics
-        key = (self.state.revision, self._tuning)
-        if self._stamp != kinematics.stamp or key != self._key:
-            self._stamp = kinematics.stamp
-            self._look(key)
-        return self._spans.get(id(owner), _NO_SPAN)
+        state = self.state
+        stamp = state.kinematics.stamp
+        if self._stamp != stamp or self._key != (state.revision, self._tuning):
+            self._stamp = stamp
+            self._look((state.revision, self._tuning))
+        return self._spans.get(owner, _NO_SPAN)
 
     def _look(self, key: tuple) -> None:
         """Every owner's pairs within influence at the current state, rows and bounds
@@ -147,7 +147,7 @@ class CollisionWatch:
             self._offset, self._damping = self._damper[:, pairs]
             found = pairs.tolist()
             cuts = [bisect_left(found, start) for start in self._starts]
-            self._spans = {id(owner): (start, end) for owner, start, end
+            self._spans = {owner: (start, end) for owner, start, end
                            in zip(self._owners, cuts, cuts[1:]) if end > start}
         rows = scene.distance_rows(nearby, state.columns)
         bounds = damper_bounds(self._offset - self._damping * nearby.distances,
