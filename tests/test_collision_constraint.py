@@ -70,13 +70,17 @@ def test_rows_are_the_derivative_of_the_distance(bazar):
 
 
 def test_a_pair_closing_faster_than_the_damper_brakes_to_a_stop():
-    """Closing faster than the damper allows, a pair is asked to brake to a stop."""
+    """Closing faster than the damper allows, a pair is asked to brake to a stop; closer
+    than the smallest distance, it is pushed apart to remove the overlap in 50 ms (up to
+    2 cm/s, or at the damper's rate if faster)."""
     gap, dt = 0.03, 0.005
     assert damper_bounds(-4.0 * gap, -0.05, 4.0, dt) == pytest.approx(-4.0 * gap)
     fast = -0.3
     stop = fast + dt * fast ** 2 / (2 * gap)
     assert damper_bounds(-4.0 * gap, fast, 4.0, dt) == pytest.approx(stop)
-    assert damper_bounds(4.0 * 0.002, fast, 4.0, dt) == pytest.approx(4.0 * 0.002)
+    assert damper_bounds(4.0 * 0.0005, fast, 4.0, dt) == pytest.approx(0.0005 / 0.05)
+    assert damper_bounds(4.0 * 0.002, fast, 4.0, dt) == pytest.approx(0.02)
+    assert damper_bounds(40.0 * 0.002, fast, 40.0, dt) == pytest.approx(40.0 * 0.002)
     bounds = damper_bounds(np.array([-4.0 * gap, -2.0 * gap]), np.array([-0.05, fast]),
                            np.array([4.0, 2.0]), dt)
     assert bounds == pytest.approx([-4.0 * gap, stop])
@@ -169,7 +173,8 @@ def test_rows_written_into_the_qp_are_the_constraints_own(bazar):
     """The rows the constraint writes straight into the QP are those of its hooks, as
     pairs come and go: 6 pairs, 5 (same QP, a stale row cleared), 3 (the QP keeps its
     rows for this cycle), none (the QP has shrunk to none), 6 (the QP grows at the next
-    cycle), 6; the velocity limit's rows stay as they are."""
+    cycle), 6, 3, 3 (the QP shrinks to 4 rows), 6 (its 4 rows go to the 4 closest
+    pairs); the velocity limit's rows stay as they are."""
     over = np.array([-0.15, 1.2, 0, -2.0, 0, -1.6, 0, 0.15, 1.2, 0, -1.4, 0, 1.0, 0])
     controller = Controller(bazar, GROUP, 0.005)
     speed = controller.add_constraint("body_velocity", "speed",
@@ -178,7 +183,7 @@ def test_rows_written_into_the_qp_are_the_constraints_own(bazar):
                                       other="workbench", influence=0.25)
     arms = bazar.joint_group("bazar_arms").q_indices
     counts = []
-    for share in (1.0, 0.95, 0.9, 0.0, 1.0, 1.0):
+    for share in (1.0, 0.95, 0.9, 0.0, 1.0, 1.0, 0.9, 0.9, 1.0):
         q = bazar.initial_configuration()
         q[arms] = share * over + (1 - share) * q[arms]
         assert controller.compute(q).solved
@@ -193,4 +198,8 @@ def test_rows_written_into_the_qp_are_the_constraints_own(bazar):
         np.testing.assert_array_equal(problem.u, upper)
         unused = speed.rows + clear.pairs_near
         assert not problem.C[unused:].any() and np.all(np.isneginf(problem.l[unused:]))
-    assert counts == [(6, 8), (5, 8), (3, 8), (0, 0), (6, 0), (6, 8)]
+        rows = len(problem.C) - speed.rows
+        distances = sorted(w.distance for w in clear.witnesses)[:rows]
+        np.testing.assert_allclose(sorted(problem.l[speed.rows:speed.rows + len(distances)]),
+                                   sorted(-5.0 * (np.array(distances) - 0.01)), atol=1e-12)
+    assert counts == [(6, 8), (5, 8), (3, 8), (0, 0), (6, 0), (6, 8), (3, 8), (3, 4), (6, 4)]

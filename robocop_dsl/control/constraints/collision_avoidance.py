@@ -10,12 +10,14 @@ only shrink as fast as ``damping * (d - min_distance)``::
 with ``v(p) = J_v dq + w x (p - o)`` the velocity of the witness point carried by its
 body (frame origin ``o``, Jacobians of that body). In discrete time the gap to
 ``min_distance`` then shrinks by at most the factor ``1 - damping * dt`` per cycle, so
-it is never crossed (up to the distance's curvature over one cycle); a pair already
-closer than ``min_distance`` is pushed apart at that rate. Where the distance is not
-smooth (a face parallel to another: the closest points jump from corner to corner) the
-damper could ask for a velocity jump; the pair is then asked to brake to a stop at
-``min_distance`` instead. Such a face held against another rocks a little from corner to
-corner: it may sink below ``min_distance`` by a fraction of a millimetre.
+it is never crossed (up to the distance's curvature over one cycle). Where the distance
+is not smooth (a face parallel to another: the closest points jump from corner to
+corner) the damper could ask for a velocity jump; the pair is then asked to brake to a
+stop at ``min_distance`` instead. Such a face held against another rocks a little from
+corner to corner and may sink below ``min_distance``; a pair closer than
+``min_distance`` is pushed apart fast enough to remove the overlap in 50 ms (up to
+2 cm/s, or at the damper's rate if faster), which keeps that sink to a few tenths of a
+millimetre (:func:`~robocop_dsl.control.constraints.velocity_damper.damper_bounds`).
 
 Pairs beyond ``influence`` cost almost nothing: each pair's distance is bounded from
 below by what was measured last minus how far the joints have moved it since
@@ -164,7 +166,8 @@ class CollisionAvoidanceConstraint(Constraint):
 
     @property
     def witnesses(self) -> list[Witness]:
-        """The shape pairs within influence at the last cycle, one per row, in order."""
+        """The shape pairs within influence at the last cycle, in the order of the rows
+        (while the QP has a row for each)."""
         return self._seen.witnesses(self._span)
 
     @property
@@ -217,18 +220,23 @@ class CollisionAvoidanceConstraint(Constraint):
     def _fill(self, jacobian: np.ndarray, lower: np.ndarray, filled: int) -> int:
         """Write the pairs within influence into ``jacobian`` and ``lower``, the rows
         after them zero and ``-inf`` (``filled`` rows held pairs before); returns how
-        many rows hold pairs now."""
+        many rows hold pairs now. With more pairs than rows (until the QP grows at the
+        next cycle), the closest pairs get the rows."""
         first, end = self._span
         count = end - first
+        seen = self._seen
         if count > lower.shape[0]:
             count = lower.shape[0]
+            closest = first + np.argsort(seen.nearby.distances[first:end], kind="stable")
+            jacobian[:] = seen.rows[closest[:count]]
+            lower[:] = seen.bounds[closest[:count]]
+            return count
         if count < filled:
             jacobian[count:filled] = 0.0
             lower[count:filled] = -np.inf
         if count:
-            seen = self._seen
-            jacobian[:count] = seen.rows[first:first + count]
-            lower[:count] = seen.bounds[first:first + count]
+            jacobian[:count] = seen.rows[first:end]
+            lower[:count] = seen.bounds[first:end]
         return count
 
     def compute_jacobian(self, state: ControlState) -> np.ndarray:
