@@ -210,6 +210,19 @@ def test_a_256_character_world_name_is_a_located_error(tmp_path):
     assert (diagnostic.code, diagnostic.span.line) == ("world-not-found", 2)
 
 
+@pytest.mark.parametrize("name", ["not " * 200 + "../composite.mission",
+                                  "a/" * 3000 + "b.mission"])
+def test_an_import_name_the_system_refuses_is_a_located_error(tmp_path, name):
+    """An import whose path is too long for the system (a name over 255 bytes, a path
+    over 4096) is reported where it is written, with no traceback."""
+    text = mission().replace('state a {', f'import "{name}"\nstate a {{')
+    (tmp_path / "m.mission").write_text(text)
+    done = check_cli(str(tmp_path / "m.mission"), "--format", "json")
+    [diagnostic] = only_located(done)
+    assert (diagnostic["code"], diagnostic["span"]["line"]) == ("import-not-found", 3)
+    assert done.returncode == 1
+
+
 # ---- encodings ----------------------------------------------------------------------
 
 def _latin1_world(tmp_path, declared: bool) -> Path:

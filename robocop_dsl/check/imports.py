@@ -64,10 +64,14 @@ def check_library(ctx: CheckContext, library: ast.Mission) -> None:
 def _near(name: str, folder: Path | None) -> str | None:
     """"did you mean" among the mission files beside the one named."""
     where = (folder / name).parent if folder is not None else None
-    if where is None or not where.is_dir():
+    try:
+        if where is None or not where.is_dir():
+            return None
+        found = [p.name for p in where.glob("*.mission")]
+    except OSError:         # a name the system refuses (too long, ...)
         return None
     prefix = name.rpartition("/")[0]
-    candidates = [f"{prefix}/{p.name}" if prefix else p.name for p in where.glob("*.mission")]
+    candidates = [f"{prefix}/{file}" if prefix else file for file in found]
     return did_you_mean(name, candidates)
 
 
@@ -86,11 +90,12 @@ class _Loader:
         ctx, name = self.ctx, item.path.text
         try:
             path = resolve(name, folder) if name else None
+            found = path is not None and path.is_file()
         except (OSError, ValueError) as error:
             ctx.error("import-not-found", f"cannot read imported file '{name}': "
                       f"{getattr(error, 'strerror', None) or error}", item.path.span)
             return
-        if path is None or not path.is_file():
+        if not found:
             ctx.error("import-not-found", f"imported file '{name}' not found", item.path.span,
                       _near(name, folder) or "looked beside the importing file, in the "
                       "package's robots/ and in ROBOCOP_PATH folders")
