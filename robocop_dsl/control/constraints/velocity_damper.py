@@ -26,10 +26,10 @@ def damper_bounds(damper, rate, damping, time_step: float) -> np.ndarray:
     jump would be needed: the bound then only asks to brake to a stop at the smallest
     distance (``rate^2 / (2 gap)`` over one ``time_step`` [s]).
     """
+    if not np.count_nonzero(np.less(np.minimum(rate, 0.0), damper)):
+        return damper       # no pair closing faster than the damper allows, none too close
     braking = np.less(rate, damper)
     overlapping = np.greater(damper, 0.0)
-    if not np.count_nonzero(braking) and not np.count_nonzero(overlapping):
-        return damper
     gap = np.divide(damper, -damping)
     recovery = np.minimum(-gap / RECOVERY_TIME, RECOVERY_SPEED)
     bound = np.where(overlapping, np.maximum(damper, recovery), damper)
