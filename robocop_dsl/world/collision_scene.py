@@ -242,12 +242,12 @@ class CollisionScene:
         (kept while the same array comes back); their results, in order."""
         if indices is not self._active_of:
             wanted = indices.tolist()
-            active, data = self._active, self.data
-            for index in active.difference(wanted):
+            active, data, chosen = self._active, self.data, set(wanted)
+            for index in active - chosen:
                 data.deactivateCollisionPair(index)
-            for index in set(wanted).difference(active):
+            for index in chosen - active:
                 data.activateCollisionPair(index)
-            self._active = set(wanted)
+            self._active = chosen
             self._active_of = indices
             self._active_results = [self._results[index] for index in wanted]
         return self._active_results

@@ -119,10 +119,10 @@ class CollisionWatch:
         """The part of :attr:`seen` that holds the pairs ``owner`` watches within its
         influence at the current state: ``(first, end)``."""
         state = self.state
-        stamp = state.kinematics.stamp
-        if self._stamp != stamp or self._key != (state.revision, self._tuning):
+        stamp, key = state.kinematics.stamp, (state.revision, self._tuning)
+        if self._stamp != stamp or self._key != key:
             self._stamp = stamp
-            self._look((state.revision, self._tuning))
+            self._look(key)
         return self._spans.get(owner, _NO_SPAN)
 
     def _look(self, key: tuple) -> None:
