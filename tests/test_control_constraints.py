@@ -81,8 +81,9 @@ def test_per_axis_body_velocity_limit(panda):
     assert abs(linear[0]) <= 0.01 + 1e-8 and abs(linear[1]) <= 0.02 + 1e-8
 
 
-def test_infeasible_constraints_give_flagged_zero(panda):
-    """Constraints without a common solution give a zero command flagged as failed."""
+def test_infeasible_constraints_relax_body_velocity_first(panda):
+    """Constraints without a common solution relax the body velocity bound, never the
+    position limit: the joint is driven back, the cycle flagged as failed."""
     controller = Controller(panda, "panda_arm", 0.002)
     q = panda.initial_configuration()
     joint = panda.joint_group("panda_arm")
@@ -91,15 +92,16 @@ def test_infeasible_constraints_give_flagged_zero(panda):
     controller.add_constraint("joint_kinematic", "forced", "panda_arm", min_position=forced)
     controller.add_constraint("body_velocity", "still", "panda_hand", max_linear=0.0)
     result = controller.compute(q)
-    assert not result.solved and controller.failed
-    np.testing.assert_array_equal(result.velocity, np.zeros(7))
-    assert "no QP solution" in result.reason
+    assert not result.solved and controller.failed and result.status == "relaxed"
+    assert [r.constraint for r in result.relaxations] == ["body_velocity 'still'"]
+    assert result.velocity[1] == pytest.approx(joint.max_velocity[1])
     controller.constraint("still").disable()
     assert controller.compute(q).solved and not controller.failed
 
 
-def test_conflicting_boxes_are_refused_before_solving(panda):
-    """Two joint constraints with disjoint velocity ranges are refused the same way."""
+def test_joint_constraints_meet_in_one_table(panda):
+    """Two joint constraints meet: a joint below one's range is driven back at the
+    other's speed limit."""
     controller = Controller(panda, "panda_arm", 0.002)
     q = panda.initial_configuration()
     joint = panda.joint_group("panda_arm")
@@ -108,7 +110,7 @@ def test_conflicting_boxes_are_refused_before_solving(panda):
     controller.add_constraint("joint_kinematic", "forced", "panda_arm", min_position=forced)
     controller.add_constraint("joint_kinematic", "slow", "panda_joint1", max_velocity=0.01)
     result = controller.compute(q)
-    assert result.failed and result.reason == "constraints have no common solution"
+    assert result.solved and result.velocity[0] == pytest.approx(0.01)
 
 
 def test_non_finite_inputs_are_refused(panda):

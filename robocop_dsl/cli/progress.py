@@ -4,6 +4,7 @@ end-of-run summary."""
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 
@@ -12,6 +13,7 @@ from rich.console import Console
 from rich.table import Table
 
 from ..runtime.records import Observer
+from ..safety.report import EXCESS_UNITS
 
 REFRESH = 0.1
 
@@ -29,6 +31,7 @@ class ProgressDisplay(Observer):
         self.live = self.console.is_terminal
         self._status = None
         self._last = 0.0
+        self._relaxed: set[str] = set()
 
     def on_start(self, runner) -> None:
         if self.live:
@@ -53,7 +56,16 @@ class ProgressDisplay(Observer):
         elif event.kind == "event":
             self.console.print(f"{event.time:8.3f} s  event: {event.data['name']}",
                                highlight=False)
-        elif event.kind in ("fault", "qp_failure", "overrun", "log"):
+        elif event.kind == "constraint_relaxed":
+            name = event.data["constraint"]
+            if name not in self._relaxed:
+                self._relaxed.add(name)
+                self.console.print(
+                    f"{event.time:8.3f} s  constraint_relaxed: {name} by "
+                    f"{event.data['amount']:.4g} {event.data['unit']} (rows "
+                    f"{', '.join(map(str, event.data['rows']))}; later ones in the log)",
+                    highlight=False)
+        elif event.kind in ("fault", "qp_failure", "overrun", "log", "solver_budget"):
             if event.kind == "qp_failure" and event.data.get("repeat"):
                 return
             self.console.print(f"{event.time:8.3f} s  {event.kind}: {event.data.get('message', '')}",
@@ -88,8 +100,30 @@ def print_summary(result, stream, explained=None) -> None:
         console.print(f"cycles: {result.cycles}  cycle time median {np.median(times):.3f} ms"
                       f"  p99 {np.percentile(times, 99):.3f} ms  max {times.max():.3f} ms"
                       f"  QP failures: {result.qp_failures}  overruns: {result.overruns}")
+    console.print(safety_text(result.safety))
     if explained is not None:
         print_explanation(explained, console)
+
+
+def safety_text(report) -> str:
+    """One line: whether every promise held, each collision constraint's smallest
+    clearance, the excesses over limits and the relaxed cycles."""
+    parts = ["safety: " + ("[green]every promise held[/]" if report.held
+                           else "[red]a promise was broken[/]")]
+    for label, clearance in report.clearances.items():
+        measured = (f"{clearance * 1e3:.1f} mm" if math.isfinite(clearance)
+                    else "never within influence")
+        parts.append(f"smallest clearance of {label}: {measured} (min_distance "
+                     f"{report.min_distances[label] * 1e3:g} mm)")
+    excesses = [f"{kind} {value:.4g} {EXCESS_UNITS[kind]} ({report.excess_at[kind]})"
+                for kind, value in report.excess.items() if value]
+    parts.append("excess over limits: " + (", ".join(excesses) if excesses else "none"))
+    if report.relaxed:
+        parts.append("relaxed cycles: " + ", ".join(f"{name} {count}"
+                                                    for name, count in report.relaxed.items()))
+    if report.budget_cycles:
+        parts.append(f"solver budget spent: {report.budget_cycles} cycles")
+    return "\n  ".join(parts)
 
 
 def print_explanation(summary, console: Console) -> None:

@@ -18,6 +18,8 @@ from .results import ControlResult, Timings
 from .solvers import QuadraticProgram, make_solver
 from .state import ControlState, resolve_group
 from .tasks import TASKS, Task
+from ..safety import (BrakingProgram, JointLimits, Relaxer, RowGroup, acceleration_box,
+                      joint_box, joint_limits)
 from ..world.processors import option_default
 
 HIERARCHIES = ("strict", "weighted")
@@ -34,6 +36,12 @@ class _Plan:
     boxes: list[Constraint]
     rows: list[tuple[Constraint, np.ndarray, np.ndarray, np.ndarray]]
     """Each row constraint with its rows of the QP's ``C``, ``l`` and ``u`` (views)."""
+    limits: JointLimits
+    groups: list[RowGroup]
+    """Each row constraint's rows, and whether a relaxation may add slack to them."""
+    braking: BrakingProgram
+    hard: tuple[np.ndarray, np.ndarray] | None = None
+    """The cycle's box before the acceleration limits [rad/s or m/s]."""
 
 
 class Controller:
@@ -86,7 +94,6 @@ class Controller:
         self.kinematics = kinematics if kinematics is not None else Kinematics(world)
         group = resolve_group(world, joint_group)
         self.state = ControlState(self.kinematics, group, self.time_step)
-        self._urdf_velocity = np.array(group.max_velocity, dtype=float)
         self._tasks: dict[str, Task] = {}
         self._constraints: dict[str, Constraint] = {}
         self._auto_enable: bool | None = None
@@ -94,6 +101,8 @@ class Controller:
         self.failed = False
         self.result: ControlResult | None = None
         self.problems: list[QuadraticProgram] = []
+        self._relaxer = Relaxer()
+        self._relaxing = False
 
     @classmethod
     def from_world(cls, world, processor: str | None = None, **overrides) -> "Controller":
@@ -117,6 +126,13 @@ class Controller:
     def joint_group(self):
         """The controlled joint group."""
         return self.state.group
+
+    @property
+    def limits(self) -> JointLimits | None:
+        """The joint limits table of the latest cycle (the world's met with the enabled
+        ``joint_kinematic`` constraints'), ``None`` before the first cycle."""
+        plan = self._cached_plan
+        return None if plan is None else plan.limits
 
     def set_auto_enable(self, enabled: bool) -> None:
         """Enable (or not) tasks and constraints as they are added.
@@ -209,6 +225,7 @@ class Controller:
             task.reset()
             task.feedback_loop().reset()
         self._cached_plan = None
+        self._relaxing = False
         self.failed = False
         self.result = None
 
@@ -256,18 +273,20 @@ class Controller:
             if reason:
                 return self._refuse(reason, start)
         after_tasks = time.perf_counter()
-        if not self._bounds(plan):
-            return self._refuse("constraints have no common solution", start)
+        relaxations = self._bounds(plan)
         after_constraints = time.perf_counter()
-        command, level_results, self.problems = hierarchy.solve(objectives)
+        command, level_results, more, exhausted = self._answer(plan, objectives)
         end = time.perf_counter()
         if command is None:
             return self._refuse("no QP solution (constraints infeasible or solver failure)",
                                 start)
+        relaxations += more
+        status = "solver_budget" if exhausted else "relaxed" if relaxations else "solved"
         timings = Timings(after_kinematics - start, after_tasks - after_kinematics,
                           after_constraints - after_tasks, end - after_constraints,
                           end - start)
-        return self._finish(ControlResult(command, True, level_results, timings))
+        return self._finish(ControlResult(command, status == "solved", level_results, timings,
+                                          None, tuple(relaxations), status))
 
     def _check_state(self, q: np.ndarray, dq) -> str | None:
         model = self.kinematics.model
@@ -297,6 +316,10 @@ class Controller:
             for index, task in enumerate(tasks):
                 by_priority.setdefault(task.priority, []).append(index)
             levels = sorted(by_priority.items())
+        limits = joint_limits(self.state.group,
+                              [c for c in constraints if c.joint_limits() is not None])
+        self.state.max_acceleration = limits.max_acceleration
+        constraints = [c for c in constraints if c.joint_limits() is None]
         everything = np.arange(self.state.dofs)
         boxes = [c for c in constraints if c.box_columns is not None]
         first = next((c for c in boxes if np.array_equal(c.box_columns, everything)), None)
@@ -311,21 +334,23 @@ class Controller:
                               self.lm_damping)
         rows = [(constraint, hierarchy.C[span], hierarchy.l[span], hierarchy.u[span])
                 for constraint, span in spans]
+        groups = [RowGroup(constraint.label, span, constraint.kind == "body_velocity",
+                           "m/s or rad/s") for constraint, span in spans]
         plan = _Plan(self.state.revision,
                      [(task, hierarchy.task_rows(index)) for index, task in enumerate(tasks)],
-                     hierarchy, first, [c for c in boxes if c is not first], rows)
+                     hierarchy, first, [c for c in boxes if c is not first], rows, limits,
+                     groups, BrakingProgram(hierarchy, make_solver(self.solver, warm_start=False)))
         self._cached_plan = plan
         return plan
 
-    def _bounds(self, plan: _Plan) -> bool:
-        """Write the constraints' bounds and rows into the plan's QPs; ``False`` when
-        they leave no common command (box bounds of several constraints that do not
-        intersect, or a row with ``l > u``)."""
+    def _bounds(self, plan: _Plan) -> list:
+        """Write the constraints' bounds and rows into the plan's QPs: the joint limits
+        table as viable bounds (:func:`~robocop_dsl.safety.viable.joint_box`), the other
+        box constraints, the rows, then the acceleration limits. Returns the
+        acceleration limits relaxed where a joint's box does not meet them."""
         state = self.state
         hierarchy = plan.hierarchy
-        lower, upper = hierarchy.lower, hierarchy.upper
-        np.negative(self._urdf_velocity, out=lower)
-        upper[:] = self._urdf_velocity
+        lower, upper = joint_box(state.group_positions, plan.limits, state.time_step)
         if plan.full_box is not None:
             low, high = _part("constraint", plan.full_box, plan.full_box.compute_bounds, state)
             np.maximum(lower, low, out=lower)
@@ -337,15 +362,88 @@ class Controller:
             upper[columns] = np.minimum(upper[columns], high)
         for constraint, jacobian, low, high in plan.rows:
             _part("constraint", constraint, constraint.write_rows, state, jacobian, low, high)
-        if np.count_nonzero(np.greater(lower, upper)):
-            return False
-        return not (plan.rows and np.count_nonzero(np.greater(hierarchy.l, hierarchy.u)))
+        plan.hard = (lower, upper)
+        hierarchy.lower[:] = lower
+        hierarchy.upper[:] = upper
+        return acceleration_box(state.previous_command, plan.limits, state.time_step,
+                                hierarchy.lower, hierarchy.upper, state.group.joints)
+
+    def _answer(self, plan: _Plan, objectives: list[Objective]):
+        """``(command, level results, relaxations, exhausted)`` of a cycle whose bounds are
+        written: the hierarchy's answer. When it has none, the relaxation QP
+        (:mod:`robocop_dsl.safety.relaxation`) tells whether the hard set has a common
+        command: if not, the hierarchy's answer under the smallest relaxation; if so,
+        the solver spent its budget on a hard cycle, and the braking QP answers. While
+        the cycles before were relaxed, the relaxation QP comes first (the hard set
+        likely has no common command still). ``command`` is ``None`` only when nothing,
+        not even holding still, meets the constraints."""
+        hierarchy = plan.hierarchy
+        exhausted = False
+        if not (self._relaxing
+                or plan.rows and np.count_nonzero(np.greater(hierarchy.l, hierarchy.u))):
+            command, levels, self.problems = hierarchy.solve(objectives)
+            if command is not None:
+                return command, levels, [], False
+            exhausted = hierarchy.exhausted
+        relaxed = self._relax(plan)
+        if relaxed is None:
+            return None, (), [], False
+        fallback, relaxations = relaxed
+        self._relaxing = bool(relaxations)
+        if exhausted and not relaxations:
+            command = plan.braking.solve()
+            return (fallback if command is None else command), (), [], True
+        command, levels, self.problems = hierarchy.solve(objectives)
+        if command is None:
+            return fallback, (), relaxations, hierarchy.exhausted
+        return command, levels, relaxations, False
+
+    def _braking_answer(self, plan: _Plan):
+        """``(command, relaxations)`` of the braking QP over the written bounds."""
+        command = plan.braking.solve()
+        if command is not None:
+            return command, []
+        relaxed = self._relax(plan)
+        if relaxed is None:
+            return None, []
+        fallback, relaxations = relaxed
+        command = plan.braking.solve()
+        return (fallback if command is None else command), relaxations
+
+    def _relax(self, plan: _Plan):
+        state = self.state
+        return self._relaxer.relax(plan.braking.program, plan.hard, state.previous_command,
+                                   plan.limits, state.time_step, plan.groups,
+                                   state.group.joints)
+
+    def brake(self, q: np.ndarray, dq: np.ndarray | None = None) -> ControlResult:
+        """One cycle of a stop at ``q`` (nq): the velocity brought towards zero as fast
+        as the acceleration limits allow, every enabled constraint held
+        (:mod:`robocop_dsl.safety.braking`); tasks are not computed. The command is
+        zero once at rest."""
+        start = time.perf_counter()
+        q = np.asarray(q, dtype=float)
+        reason = self._check_state(q, dq)
+        if reason:
+            return self._refuse(reason, start)
+        self.update_state(q, dq)
+        plan = self._plan()
+        relaxations = self._bounds(plan)
+        command, more = self._braking_answer(plan)
+        if command is None:
+            return self._refuse("no braking command meets the constraints", start)
+        relaxations += more
+        status = "relaxed" if relaxations else "solved"
+        total = time.perf_counter() - start
+        return self._finish(ControlResult(command, not relaxations, (), Timings(total=total),
+                                          None, tuple(relaxations), status))
 
     def _refuse(self, reason: str, start: float) -> ControlResult:
         self._cached_plan = None
         total = time.perf_counter() - start
         return self._finish(ControlResult(np.zeros(self.state.dofs), False,
-                                          timings=Timings(total=total), reason=reason))
+                                          timings=Timings(total=total), reason=reason,
+                                          status="no_solution"))
 
     def _finish(self, result: ControlResult) -> ControlResult:
         self.state.previous_command = result.velocity

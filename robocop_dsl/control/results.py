@@ -56,11 +56,16 @@ class ControlResult:
 
     Attributes:
         velocity: Joint-velocity command of the controlled group [rad/s or m/s], in the
-            group's joint order; zeros when the cycle failed, never NaN.
-        solved: Whether a command satisfying every enabled constraint was found.
+            group's joint order, never NaN; zeros when no command was found.
+        solved: Whether the hierarchy's command satisfies every enabled constraint.
         levels: Per priority level results, highest priority first.
         timings: Where the time went.
-        reason: Why the cycle failed, else ``None``.
+        reason: Why no command was found (``status == "no_solution"``), else ``None``.
+        relaxations: The constraints relaxed this cycle
+            (:class:`~robocop_dsl.safety.Relaxation`).
+        status: ``solved``, ``relaxed`` (a command under relaxed constraints),
+            ``solver_budget`` (the braking QP's command: the solver spent its iteration
+            budget) or ``no_solution`` (non-finite input: a zero command).
     """
 
     velocity: np.ndarray
@@ -68,10 +73,12 @@ class ControlResult:
     levels: tuple[LevelResult, ...] = ()
     timings: Timings = field(default_factory=Timings)
     reason: str | None = None
+    relaxations: tuple = ()
+    status: str = "solved"
 
     @property
     def failed(self) -> bool:
-        """Whether the cycle failed (the command is a zero velocity)."""
+        """Whether the cycle failed (relaxed, budget spent or no command)."""
         return not self.solved
 
     @property

@@ -45,6 +45,9 @@ class ControlState:
         one another."""
         self.velocity = np.zeros(self.dofs)
         self.previous_command = np.zeros(self.dofs)
+        self.max_acceleration = np.array(group.max_acceleration, dtype=float)
+        """Acceleration limits of the controlled joints [rad/s^2 or m/s^2]: the world's
+        met with the enabled ``joint_kinematic`` constraints' (set by the controller)."""
         self.revision = 0
         """Bumped whenever the QP's structure may change (enabling, priorities...)."""
         self._jacobians: dict[tuple[int, int], np.ndarray] = {}

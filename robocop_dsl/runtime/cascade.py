@@ -30,7 +30,9 @@ import numpy as np
 
 from ..diagnostics import RobocopError
 from ..drivers import AsyncWorldWriter
-from .runner import Runner, braked, braking_limits
+from ..safety.robot_state import RobotStateCheck
+from ..safety import stop_cycles
+from .runner import Runner
 from .views import TaskViews, task_views
 
 
@@ -235,6 +237,7 @@ class ControllerThread:
         self._thread: threading.Thread | None = None
         self._lockstep: Lockstep | None = None
         self._wall_start = 0.0
+        self._robot_state = RobotStateCheck.for_controller(controller)
 
     def __repr__(self) -> str:
         return f"ControllerThread({self.name}, cycle={self.cycle})"
@@ -275,22 +278,23 @@ class ControllerThread:
             self._release()
 
     def _brake(self) -> None:
-        """Bring the robot to rest from the last command, one step per period (at the
+        """Bring the robot to rest with the braking QP, one cycle per period (at the
         wall clock's pace in real time), unless the driver failed."""
         if self._fault is not None:
             return
-        limits = braking_limits(self.controller)
-        command = braked(self.controller.state.previous_command, limits,
-                         self.controller.time_step)
+        controller = self.controller
         deadline = clock.perf_counter()
         try:
-            while np.any(command):
+            for _ in range(stop_cycles(controller.limits, controller.state.previous_command,
+                                       controller.time_step)):
+                if not np.any(controller.state.previous_command):
+                    return
                 if self._lockstep is None:
-                    deadline += self.controller.time_step
+                    deadline += controller.time_step
                     clock.sleep(max(deadline - clock.perf_counter(), 0.0))
-                self.driver.read()
-                self.driver.write(command)
-                command = braked(command, limits, self.controller.time_step)
+                q, v = self.driver.read()
+                self._robot_state.require(q, v)
+                self.driver.write(controller.brake(q).velocity)
         except Exception as error:  # the driver is lost: nothing more to command
             self._fail(f"driver: {error}")
 
@@ -312,6 +316,7 @@ class ControllerThread:
             self._applied += 1
         try:
             q, v = self.driver.read()
+            self._robot_state.require(q, v)
         except RobocopError as error:
             self._fail(f"driver: {error}")
             return

@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..safety.report import SafetyReport
+
 
 @dataclass(frozen=True)
 class TransitionRecord:
@@ -39,3 +41,5 @@ class RunResult:
     qp_failures: int = 0
     overruns: int = 0
     message: str = ""
+    safety: SafetyReport = field(default_factory=SafetyReport)
+    """Smallest clearances, largest excesses over limits, relaxed cycles."""

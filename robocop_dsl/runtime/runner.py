@@ -1,24 +1,23 @@
 """The periodic loop that executes a mission (DESIGN "Semantics of one cycle"):
 
-1. read the driver, update the kinematics;
+1. read the driver (its state checked, :mod:`robocop_dsl.safety.robot_state`), update
+   the kinematics;
 2. check the active states' clauses, innermost first, and fire those that hold (see
    :mod:`robocop_dsl.runtime.statechart`);
 3. run the active states' ``during`` actions, outermost first;
 4. compute the QP command and write it to the driver; observers get a copy.
 
-``controller.failed`` is true in the cycle after a cycle whose QP had no solution or
-whose driver stopped answering. A fault that no clause handles, and any exception in
-the loop (a clause, an action, a task, an observer, the driver), ends the run with
-outcome ``fault``.
+``controller.failed`` is true in the cycle after a cycle whose QP was relaxed, spent
+its solver's budget or had no solution, or whose driver stopped answering. A fault that
+no clause handles, and any exception in the loop (a clause, an action, a task, an
+observer, the driver), ends the run with outcome ``fault``.
 
 Stopping: whatever ends a run (a final state, the duration, a fault, :meth:`Runner.stop`)
-the robot decelerates within its acceleration limits, then holds (zero velocity). The
-stop scales the last command down to zero in equal steps, so every joint keeps its
-direction and reaches zero in the same cycle, in as few cycles as the slowest-braking
-joint needs at its limit: the smallest ``max_acceleration`` of the world's joint group
-and of the enabled ``joint_kinematic`` constraints. Those cycles are run and recorded
-like any other, in the state that ended the run; every observer's ``on_stop`` runs
-after them.
+the robot is brought to rest by the braking QP (:mod:`robocop_dsl.safety.braking`):
+every cycle the velocity goes towards zero as fast as the acceleration limits allow,
+every enabled constraint held, then the robot holds (zero velocity). Those cycles are
+run and recorded like any other, in the state that ended the run; every observer's
+``on_stop`` runs after them.
 """
 
 from __future__ import annotations
@@ -32,6 +31,8 @@ import numpy as np
 
 from ..control.exceptions import PartFailed
 from ..diagnostics import RobocopError
+from ..safety import SafetyReport, stop_cycles
+from ..safety.robot_state import RobotStateCheck
 from .program import Program
 from .records import CycleRecord, Event
 from .result import RunResult, TransitionRecord
@@ -121,7 +122,9 @@ class Runner:
         self._stopping_cycles = 0
         self._driver_lost = False
         self._held = False
-        self._braking: np.ndarray | None = None
+        self._stop_cycles: int | None = None
+        self.safety = SafetyReport()
+        """What the run kept of its promises (:mod:`robocop_dsl.safety.report`)."""
         self._last_command = np.zeros(len(self.joint_names))
         self._result: RunResult | None = None
         self._broken: set = set()
@@ -131,6 +134,7 @@ class Runner:
         self._qp_failures = 0
         self._overruns = 0
         self.q = None
+        self._robot_state = RobotStateCheck.for_controller(controller)
 
     def __repr__(self) -> str:
         return f"Runner({self.name}, state={self.state}, t={self.time:.3f}s)"
@@ -183,7 +187,9 @@ class Runner:
         self._notify_event("start", {"state": self.state})
         try:
             self.driver.connect()
-            self.q, _ = self.driver.read()
+            q, v = self.driver.read()
+            self._robot_state.require(q, v)
+            self.q = q
         except Exception as error:  # any driver failure is the run's fault
             self._driver_fault(error)
             self._finish("fault", f"driver: {_text(error)}")
@@ -320,6 +326,7 @@ class Runner:
             self._fault(error)
         if command is None:
             command = self._stopping_command()
+        self.safety.observe(self.controller, command, self._last_command)
         self._write(command)
         self._record(command, solved, compute_time, clock.perf_counter() - started)
         self._times.add(clock.perf_counter() - started, compute_time)
@@ -331,30 +338,45 @@ class Runner:
             return np.zeros(len(self.joint_names)), True, 0.0
         result = self.controller.compute(self.q)
         self.failed = not result.solved
+        self._announce(result)
+        if result.status == "no_solution":
+            self._qp_failures += 1
+            self._message = f"no QP solution in state '{self.state}': {result.reason}"
+            self._notify_event("qp_failure", {"message": result.reason, "state": self.state,
+                                              "repeat": self._qp_failures > 1})
+            result = self.controller.brake(self.q)
+        return result.velocity, result.solved, result.timings.total
+
+    def _announce(self, result) -> None:
+        """Count and announce the relaxations and the spent budget of a cycle."""
         if result.solved:
-            return result.velocity, True, result.timings.total
-        self._qp_failures += 1
-        self._message = f"no QP solution in state '{self.state}': {result.reason}"
-        self._notify_event("qp_failure", {"message": result.reason, "state": self.state,
-                                          "repeat": self._qp_failures > 1})
-        command = self._braked(self._last_command, self.braking_limits())
-        self.controller.state.previous_command = command.copy()
-        return command, False, result.timings.total
-
-    def braking_limits(self) -> np.ndarray:
-        """See :func:`braking_limits`."""
-        return braking_limits(self.controller)
-
-    def _braked(self, command: np.ndarray, limits: np.ndarray) -> np.ndarray:
-        return braked(command, limits, self.time_step)
+            return
+        self.safety.count(result)
+        if result.status == "solver_budget":
+            self._notify_event("solver_budget", {
+                "message": "the QP solver spent its iteration budget: braking QP's command",
+                "state": self.state})
+        for relaxation in result.relaxations:
+            self._notify_event("constraint_relaxed", {**relaxation.as_event(),
+                                                      "state": self.state})
 
     def _stopping_command(self) -> np.ndarray:
-        """The command of a cycle after the outcome was decided: one step of the stop,
-        its limits taken when the stop began."""
-        if self._braking is None:
-            self._braking = self.braking_limits()
+        """The command of a cycle after the outcome was decided: the braking QP's, until
+        at rest (for at most :func:`~robocop_dsl.safety.braking.stop_cycles`: then
+        zero)."""
+        if self._stop_cycles is None:
+            self._stop_cycles = stop_cycles(self.controller.limits, self._last_command,
+                                            self.time_step)
         self._stopping_cycles += 1
-        return self._braked(self._last_command, self._braking)
+        if self._driver_lost or self._stopping_cycles > self._stop_cycles:
+            return np.zeros(len(self.joint_names))
+        try:
+            result = self.controller.brake(self.q)
+        except Exception as error:  # a constraint that raises: hold rather than move
+            self._fault(error)
+            return np.zeros(len(self.joint_names))
+        self._announce(result)
+        return result.velocity
 
     def _write(self, command: np.ndarray) -> None:
         if self._driver_lost:
@@ -375,7 +397,9 @@ class Runner:
         if self._driver_lost:
             return
         try:
-            self.q, _ = self.driver.read()
+            q, v = self.driver.read()
+            self._robot_state.require(q, v)
+            self.q = q
         except Exception as error:  # any driver failure is the run's fault
             self._driver_fault(error)
 
@@ -490,13 +514,14 @@ class Runner:
         message = self._message
         if self._stopping_cycles > 1:
             message += (f"; brought to rest in {self._stopping_cycles * self.time_step:.3f} s"
-                        " within the acceleration limits")
+                        " by the braking QP")
         result = RunResult(self._done or "stopped", self.state, self.time, self.cycle,
                            list(self._transitions), cycle_times, compute_times,
-                           self._qp_failures, self._overruns, message)
+                           self._qp_failures, self._overruns, message, self.safety)
         self._notify_event("end", {"outcome": result.outcome, "state": result.final_state,
                                    "message": result.message,
-                                   "holding": self._holding()})
+                                   "holding": self._holding(),
+                                   "safety": self.safety.as_event()})
         for observer in self.observers:
             try:
                 observer.on_stop(result)
@@ -509,30 +534,6 @@ class Runner:
             result.message += f"; driver disconnect: {_text(error)}"
         self._result = result
         return result
-
-
-def braking_limits(controller) -> np.ndarray:
-    """Per joint of ``controller``'s group, the acceleration [rad/s^2 or m/s^2] a stop
-    brakes at: the smallest of the world's and of the enabled ``joint_kinematic``
-    constraints' (``inf``: none known)."""
-    limits = np.array(controller.joint_group.max_acceleration, dtype=float)
-    for constraint in controller.constraints():
-        if constraint.enabled and constraint.kind == "joint_kinematic":
-            columns = constraint.box_columns
-            limits[columns] = np.minimum(limits[columns], constraint.max_acceleration)
-    return limits
-
-
-def braked(command: np.ndarray, limits: np.ndarray, time_step: float) -> np.ndarray:
-    """``command`` [rad/s or m/s] one ``time_step`` [s] of a stop closer to zero: scaled
-    down so that the joint needing the most steps at its ``limits`` brakes at its limit
-    and every joint reaches zero in the same step."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        worst = float(np.max(np.abs(command) / (limits * time_step), initial=0.0))
-    if not math.isfinite(worst) or worst <= 1.0 + 1e-9:
-        return np.zeros_like(command)
-    needed = math.ceil(worst - 1e-9)
-    return command * ((needed - 1) / needed)
 
 
 def _origin(error: BaseException) -> BaseException:

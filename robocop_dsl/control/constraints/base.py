@@ -71,6 +71,12 @@ class Constraint(ABC):
         """Disable: the controller ignores the constraint."""
         self.enabled = False
 
+    def joint_limits(self) -> tuple | None:
+        """Hook: ``(columns, min_position, max_position, max_velocity,
+        max_acceleration)`` the constraint adds to the controller's joint limits table
+        (:mod:`robocop_dsl.safety.limits`) instead of rows, else ``None``."""
+        return None
+
     def release(self) -> None:
         """Hook: the controller no longer holds the constraint."""
 

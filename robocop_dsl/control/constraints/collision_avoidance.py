@@ -165,6 +165,15 @@ class CollisionAvoidanceConstraint(Constraint):
         return end - first
 
     @property
+    def smallest_distance(self) -> float:
+        """The smallest distance [m] between the constraint's shapes at the last cycle,
+        over the pairs within influence (``inf`` when none is)."""
+        first, end = self._span
+        if end == first:
+            return np.inf
+        return float(self._seen.nearby.distances[first:end].min())
+
+    @property
     def witnesses(self) -> list[Witness]:
         """The shape pairs within influence at the last cycle, in the order of the rows
         (while the QP has a row for each)."""

@@ -5,7 +5,9 @@ The constraints of a controller share one
 :class:`~robocop_dsl.world.collision_scene.CollisionScene` holding the shape pairs of
 them all, each constraint's pairs one after the other. At each state, the first
 constraint to ask runs the broad phase, coal, the distance rates and the damper bounds
-of every pair within its constraint's influence in a few vectorised passes; each
+of every pair within its constraint's influence in a few vectorised passes (the
+damper's bound met with the viable bound of
+:func:`~robocop_dsl.safety.viable.distance_rate_bounds`); each
 constraint then takes its own span of the result. While the same pairs stay within
 influence, what depends on them alone (each constraint's span, the damper's parameters)
 is kept from cycle to cycle.
@@ -22,6 +24,7 @@ import numpy as np
 
 from ...world.collision_scene import NOTHING_NEAR, CollisionScene, Nearby, Witness
 from ...world.collisions import collision_geometry
+from ...safety.viable import distance_rate_bounds
 from ..state import ControlState
 from .velocity_damper import damper_bounds
 
@@ -150,6 +153,8 @@ class CollisionWatch:
             self._spans = {owner: (start, end) for owner, start, end
                            in zip(self._owners, cuts, cuts[1:]) if end > start}
         rows = scene.distance_rows(nearby, state.columns)
-        bounds = damper_bounds(self._offset - self._damping * nearby.distances,
-                               rows @ state.velocity, self._damping, state.time_step)
-        self.seen = Seen(scene, nearby, rows, bounds)
+        damper = self._offset - self._damping * nearby.distances
+        bounds = damper_bounds(damper, rows @ state.velocity, self._damping, state.time_step)
+        viable = distance_rate_bounds(damper / -self._damping, rows, state.max_acceleration,
+                                      state.time_step)
+        self.seen = Seen(scene, nearby, rows, np.maximum(bounds, viable, out=viable))

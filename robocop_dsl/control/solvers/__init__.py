@@ -18,14 +18,15 @@ def available_solvers() -> list[str]:
     return sorted(set(qpsolvers.available_solvers) | {ProxqpSolver.name})
 
 
-def make_solver(name: str) -> QPSolver:
-    """A solver instance for ``name``; ``"proxqp"`` uses the warm-started fast path.
+def make_solver(name: str, warm_start: bool = True) -> QPSolver:
+    """A solver instance for ``name``; ``"proxqp"`` uses the fast path, warm-started
+    unless ``warm_start`` is false (see :class:`ProxqpSolver`).
 
     Raises:
         UnknownSolver: ``name`` is not an installed qpsolvers backend.
     """
     if name == ProxqpSolver.name:
-        return ProxqpSolver()
+        return ProxqpSolver(warm_start=warm_start)
     installed = available_solvers()
     if name not in installed:
         raise UnknownSolver(name, installed)

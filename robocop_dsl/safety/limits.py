@@ -1,0 +1,61 @@
+"""The joint limits a controller keeps: one table per controlled group, the stricter of
+the world's (URDF) and of every enabled ``joint_kinematic`` constraint."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class JointLimits:
+    """Per dof of the controlled group, in its order (``inf`` where unlimited).
+
+    Attributes:
+        lower: Lowest positions [rad or m].
+        upper: Highest positions [rad or m].
+        max_velocity: Speed limits [rad/s or m/s].
+        max_acceleration: Acceleration limits [rad/s^2 or m/s^2].
+        urdf_velocity: The URDF's speed limits alone [rad/s or m/s] (never relaxed).
+        owners: Per dof, the name of what sets its acceleration limit (a
+            ``joint_kinematic`` constraint's label, or ``"the world's limits"``).
+    """
+
+    lower: np.ndarray
+    upper: np.ndarray
+    max_velocity: np.ndarray
+    max_acceleration: np.ndarray
+    urdf_velocity: np.ndarray
+    owners: tuple[str, ...]
+
+    @property
+    def accelerated(self) -> np.ndarray:
+        """The dofs with a finite acceleration limit."""
+        return np.flatnonzero(np.isfinite(self.max_acceleration))
+
+
+WORLD = "the world's limits"
+
+
+def joint_limits(group, constraints) -> JointLimits:
+    """The table of ``group`` (the controller's :class:`~robocop_dsl.world.JointGroup`)
+    narrowed by ``constraints``: the enabled constraints that have ``joint_limits()``
+    (columns and limits, see
+    :meth:`~robocop_dsl.control.constraints.JointKinematicConstraint.joint_limits`)."""
+    lower = np.array(group.lower, dtype=float)
+    upper = np.array(group.upper, dtype=float)
+    urdf_velocity = np.array(group.max_velocity, dtype=float)
+    velocity = urdf_velocity.copy()
+    acceleration = np.array(group.max_acceleration, dtype=float)
+    owners = [WORLD] * len(lower)
+    for constraint in constraints:
+        columns, low, high, speed, accel = constraint.joint_limits()
+        lower[columns] = np.maximum(lower[columns], low)
+        upper[columns] = np.minimum(upper[columns], high)
+        velocity[columns] = np.minimum(velocity[columns], speed)
+        for column, value in zip(columns, accel):
+            if value < acceleration[column]:
+                acceleration[column] = value
+                owners[column] = constraint.label
+    return JointLimits(lower, upper, velocity, acceleration, urdf_velocity, tuple(owners))

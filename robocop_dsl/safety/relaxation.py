@@ -1,0 +1,243 @@
+"""Relax, never give up: when the hard set of a cycle has no common command, slack is
+added in a fixed order and minimised.
+
+1. ``body_velocity`` bounds;
+2. the acceleration limits (the mission's and the world's).
+
+Position limits, the URDF's speed limits and collision distances are never traded
+away, except to allow what the current state already does: a joint past a position
+limit, or a pair closer than its ``min_distance``, may then stay where it is (zero
+velocity) instead of being driven back. Each relaxation is a :class:`Relaxation`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..control.solvers.base import QuadraticProgram
+from ..control.solvers.proxqp import ProxqpSolver
+
+BODY_WEIGHT = 1.0
+"""Weight of the squared slack of ``body_velocity`` rows [(m/s)^-2 or (rad/s)^-2]."""
+ACCELERATION_WEIGHT = 1e4
+"""Weight of the squared slack of acceleration limits [(rad/s)^-2]: far above the
+bodies', so that they are relaxed first."""
+COMMAND_WEIGHT = 1e-6
+"""Weight of ``|dq - previous|^2``, keeping the relaxation QP strictly convex."""
+MARGIN = 1e-6
+"""Added to every slack before the relaxed bounds are applied [command units]."""
+
+
+@dataclass(frozen=True)
+class Relaxation:
+    """A constraint relaxed in one cycle.
+
+    Attributes:
+        constraint: The constraint's label (or the joint limits' owner).
+        rows: The relaxed rows: joint names, or row indices of the constraint.
+        amount: The largest slack, in ``unit``.
+        unit: ``m/s``, ``rad/s`` (rows of velocity), ``rad/s^2`` (acceleration limits),
+            or ``held`` (a promise already broken by the state: not made worse).
+    """
+
+    constraint: str
+    rows: tuple
+    amount: float
+    unit: str
+
+    def as_event(self) -> dict:
+        """The ``constraint_relaxed`` event's data."""
+        return {"constraint": self.constraint, "rows": list(self.rows),
+                "amount": self.amount, "unit": self.unit}
+
+
+def acceleration_box(previous: np.ndarray, limits, time_step: float, lower: np.ndarray,
+                     upper: np.ndarray, joints) -> list[Relaxation]:
+    """Intersect the box ``[lower, upper]`` [rad/s or m/s] with the acceleration limits
+    around the ``previous`` command, in place. A joint whose box does not meet them gets
+    the velocity closest to ``previous`` within its box: its acceleration limit is
+    relaxed by the smallest amount, and reported (``joints`` names the dofs)."""
+    step = limits.max_acceleration * time_step
+    low, high = previous - step, previous + step
+    apart = (low > upper) | (high < lower)
+    relaxed = []
+    if apart.any():
+        closest = np.clip(previous, lower, upper)
+        low[apart] = high[apart] = closest[apart]
+        excess = np.abs(closest - previous)[apart] / time_step - limits.max_acceleration[apart]
+        for owner in sorted({limits.owners[i] for i in np.flatnonzero(apart)}):
+            mine = [k for k, i in enumerate(np.flatnonzero(apart)) if limits.owners[i] == owner]
+            relaxed.append(Relaxation(owner, tuple(joints[np.flatnonzero(apart)[k]] for k in mine),
+                                      float(excess[mine].max()), "rad/s^2"))
+    np.maximum(lower, low, out=lower)
+    np.minimum(upper, high, out=upper)
+    return relaxed
+
+
+@dataclass(frozen=True)
+class RowGroup:
+    """Rows of the program's ``C`` that belong to one constraint.
+
+    Attributes:
+        label: The constraint's label.
+        rows: Its rows in the program (a slice).
+        relaxable: Whether slack may be added (``body_velocity``).
+        unit: The rows' unit.
+    """
+
+    label: str
+    rows: slice
+    relaxable: bool
+    unit: str
+
+
+class Relaxer:
+    """Finds the smallest relaxation of a program's constraints (see the module) and
+    writes the relaxed bounds into it.
+
+    Args:
+        max_iter: The relaxation QP's iteration limit.
+    """
+
+    def __init__(self, max_iter: int = 200):
+        self.max_iter = max_iter
+
+    def relax(self, program: QuadraticProgram, hard: tuple[np.ndarray, np.ndarray],
+              previous: np.ndarray, limits, time_step: float, groups: list[RowGroup],
+              joints) -> tuple[np.ndarray, list[Relaxation]] | None:
+        """Relax ``program`` in place; returns a command that meets the relaxed set and
+        the relaxations, or ``None`` when even the least demanding set has no solution
+        (only for non-finite input).
+
+        Args:
+            program: The program whose ``C``, ``l``, ``u``, ``lower`` and ``upper`` hold
+                the cycle's constraints (``lower``/``upper``: the hard box met with the
+                acceleration limits).
+            hard: The box without the acceleration limits [rad/s or m/s].
+            previous: The previous command [rad/s or m/s].
+            limits: The :class:`~robocop_dsl.safety.limits.JointLimits`.
+            time_step: The control period [s].
+            groups: The constraints' rows.
+            joints: The dofs' names.
+        """
+        hard_lower, hard_upper = hard[0].copy(), hard[1].copy()
+        held: list[Relaxation] = []
+        found = self._solve(program, hard_lower, hard_upper, previous, limits, time_step,
+                            groups)
+        if found is None:
+            held = _hold_what_is_broken(program, hard_lower, hard_upper, groups, joints)
+            found = self._solve(program, hard_lower, hard_upper, previous, limits,
+                                time_step, groups)
+            if found is None:
+                return None
+        command, body_slack, acceleration_slack = found
+        relaxations = held + self._apply(program, hard_lower, hard_upper, previous, limits,
+                                         time_step, groups, joints, body_slack,
+                                         acceleration_slack)
+        return command, relaxations
+
+    def _solve(self, program, hard_lower, hard_upper, previous, limits, time_step, groups):
+        """The relaxation QP over ``[dq, body slack, acceleration slack]``; ``None`` when
+        it has no solution."""
+        n = program.g.shape[0]
+        body = [group for group in groups if group.relaxable]
+        body_rows = np.concatenate([np.arange(n_in)[g.rows] for g, n_in
+                                    in ((g, program.l.shape[0]) for g in body)]
+                                   ) if body else np.zeros(0, dtype=int)
+        hard_rows = np.setdiff1d(np.arange(program.l.shape[0]), body_rows)
+        accelerated = limits.accelerated
+        m_b, m_a = len(body_rows), len(accelerated)
+        size = n + m_b + m_a
+        hessian = np.diag(np.concatenate((np.full(n, COMMAND_WEIGHT), np.full(m_b, BODY_WEIGHT),
+                                          np.full(m_a, ACCELERATION_WEIGHT))))
+        gradient = np.zeros(size)
+        gradient[:n] = -COMMAND_WEIGHT * previous
+        rows = len(hard_rows) + 2 * m_b + 2 * m_a
+        C = np.zeros((rows, size))
+        low, high = np.full(rows, -np.inf), np.full(rows, np.inf)
+        k = len(hard_rows)
+        C[:k, :n] = program.C[hard_rows]
+        low[:k], high[:k] = program.l[hard_rows], program.u[hard_rows]
+        for j, row in enumerate(body_rows):
+            C[k, :n] = C[k + 1, :n] = program.C[row]
+            C[k, n + j], C[k + 1, n + j] = 1.0, -1.0
+            low[k], high[k + 1] = program.l[row], program.u[row]
+            k += 2
+        step = limits.max_acceleration[accelerated] * time_step
+        for j, column in enumerate(accelerated):
+            C[k, column] = C[k + 1, column] = 1.0
+            C[k, n + m_b + j], C[k + 1, n + m_b + j] = 1.0, -1.0
+            low[k], high[k + 1] = previous[column] - step[j], previous[column] + step[j]
+            k += 2
+        keep = np.isfinite(low) | np.isfinite(high)
+        lower = np.concatenate((hard_lower, np.zeros(m_b + m_a)))
+        upper = np.concatenate((hard_upper, np.full(m_b + m_a, np.inf)))
+        qp = QuadraticProgram(hessian, gradient, np.zeros((0, size)), np.zeros(0), C[keep],
+                              low[keep], high[keep], lower, upper)
+        solution = ProxqpSolver(max_iter=self.max_iter).solve(qp)
+        if not solution.found or not np.all(np.isfinite(solution.x)):
+            return None
+        x = solution.x
+        return (np.clip(x[:n], hard_lower, hard_upper), np.maximum(x[n:n + m_b], 0.0),
+                np.maximum(x[n + m_b:], 0.0))
+
+    @staticmethod
+    def _apply(program, hard_lower, hard_upper, previous, limits, time_step, groups, joints,
+               body_slack, acceleration_slack) -> list[Relaxation]:
+        """Widen the program's bounds by the slack found; the relaxations made."""
+        relaxations = []
+        n_in = program.l.shape[0]
+        j = 0
+        for group in groups:
+            if not group.relaxable:
+                continue
+            indices = np.arange(n_in)[group.rows]
+            slack = body_slack[j:j + len(indices)]
+            j += len(indices)
+            program.l[indices] -= slack + MARGIN
+            program.u[indices] += slack + MARGIN
+            relaxed = np.flatnonzero(slack > MARGIN)
+            if relaxed.size:
+                relaxations.append(Relaxation(group.label, tuple(int(r) for r in relaxed),
+                                              float(slack.max()), group.unit))
+        accelerated = limits.accelerated
+        step = np.full(len(previous), np.inf)
+        step[accelerated] = (limits.max_acceleration[accelerated] * time_step
+                             + acceleration_slack + MARGIN)
+        np.maximum(hard_lower, previous - step, out=program.lower)
+        np.minimum(hard_upper, previous + step, out=program.upper)
+        relaxed = accelerated[acceleration_slack > MARGIN]
+        excess = acceleration_slack / time_step
+        for owner in sorted({limits.owners[i] for i in relaxed}):
+            mine = [k for k, i in enumerate(accelerated)
+                    if i in relaxed and limits.owners[i] == owner]
+            relaxations.append(Relaxation(owner, tuple(joints[accelerated[k]] for k in mine),
+                                          float(excess[mine].max()), "rad/s^2"))
+        return relaxations
+
+
+def _hold_what_is_broken(program, hard_lower, hard_upper, groups, joints) -> list[Relaxation]:
+    """Let every promise the state already breaks stay as it is: zero velocity allowed
+    for the joints and the rows that asked to be driven back."""
+    relaxed = []
+    back = (hard_lower > 0.0) | (hard_upper < 0.0)
+    if back.any():
+        np.minimum(hard_lower, 0.0, out=hard_lower)
+        np.maximum(hard_upper, 0.0, out=hard_upper)
+        relaxed.append(Relaxation("joint position limits",
+                                  tuple(joints[i] for i in np.flatnonzero(back)), 0.0, "held"))
+    n_in = program.l.shape[0]
+    for group in groups:
+        if group.relaxable:
+            continue
+        indices = np.arange(n_in)[group.rows]
+        low, high = program.l[indices], program.u[indices]
+        pushing = (low > 0.0) | (high < 0.0)
+        if pushing.any():
+            program.l[indices] = np.minimum(low, 0.0)
+            program.u[indices] = np.maximum(high, 0.0)
+            relaxed.append(Relaxation(group.label, tuple(int(r) for r in np.flatnonzero(pushing)),
+                                      float(np.max(np.maximum(low, -high)[pushing])), "held"))
+    return relaxed
