@@ -14,7 +14,7 @@ BORDERLINE = [
     ("range_zero_max_velocity", "max_velocity     = 0 rad/s", "max_velocity     = 1e-3 rad/s"),
     ("range_zero_duration", "duration = 0 s", "duration = 1 ms"),
     ("range_negative_gain", "ki = -0.5", "ki = 0"),
-    ("range_min_above_max", "max_position     = -1 rad", "max_position     = 1 rad"),
+    ("range_min_above_max", "max_position     = -1 rad", "max_position     = 0.5 rad"),
     ("range_min_above_urdf", "min_position     = 3 rad", "min_position     = 0.54 rad"),
     ("range_per_dof_element", "1, 0, 1", "1, 1e-3, 1"),
     ("range_negative_weight", "weight       = -2", "weight       = 0"),

@@ -71,8 +71,9 @@ def describe(world: World) -> dict:
         "joint_groups": [{"name": g, "dofs": world.joint_group(g).dofs,
                           "joints": list(world.joint_group(g).joints)}
                          for g in world.group_names()],
-        "processors": [{"name": p.name, "type": p.type, "options": p.options,
-                        "driver": p.driver} for p in world.processors.values()],
+        "processors": [{"name": p.name, "type": p.type,
+                        "options": {**p.options, **p.run_options}, "driver": p.driver}
+                       for p in world.processors.values()],
         "collisions": collisions(world),
     }
 
@@ -138,7 +139,8 @@ def render_text(world: World) -> str:
         lines.append(f"  {name}: {group.dofs} dofs ({', '.join(group.joints)})")
     lines += ["", "processors:"]
     for processor in world.processors.values():
-        options = ", ".join(f"{k}: {v}" for k, v in processor.options.items())
+        options = ", ".join(f"{k}: {v}" for k, v in {**processor.options,
+                                                      **processor.run_options}.items())
         driver = f" (driver: {processor.driver})" if processor.driver else ""
         lines.append(f"  {processor.name}: {processor.type} {{{options}}}{driver}")
     lines += _collision_lines(collisions(world))

@@ -273,6 +273,9 @@ class Controller:
             if reason:
                 return self._refuse(reason, start)
         after_tasks = time.perf_counter()
+        if plan.limits.conflict:
+            return self._refuse(f"constraints have no common solution: {plan.limits.conflict}",
+                                start)
         relaxations = self._bounds(plan)
         after_constraints = time.perf_counter()
         command, level_results, more, exhausted = self._answer(plan, objectives)
@@ -350,7 +353,8 @@ class Controller:
         acceleration limits relaxed where a joint's box does not meet them."""
         state = self.state
         hierarchy = plan.hierarchy
-        lower, upper = joint_box(state.group_positions, plan.limits, state.time_step)
+        lower, upper = joint_box(state.group_positions, state.previous_command, plan.limits,
+                                 state.time_step)
         if plan.full_box is not None:
             low, high = _part("constraint", plan.full_box, plan.full_box.compute_bounds, state)
             np.maximum(lower, low, out=lower)
@@ -428,6 +432,9 @@ class Controller:
             return self._refuse(reason, start)
         self.update_state(q, dq)
         plan = self._plan()
+        if plan.limits.conflict:
+            return self._refuse(f"constraints have no common solution: {plan.limits.conflict}",
+                                start)
         relaxations = self._bounds(plan)
         command, more = self._braking_answer(plan)
         if command is None:

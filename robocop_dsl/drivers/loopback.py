@@ -21,9 +21,10 @@ from .process import SimulatorProcess
 class LoopbackDriver(ThreadedDriver):
     """Drives the robot simulator (or any robot speaking the protocol) over loopback.
 
-    Losing the connection, or no ``STATE`` for ``state_timeout``, is a fault: the next
-    ``read()``/``write()`` raises :class:`DriverFault`, and the robot holds on its own
-    once its command times out.
+    Losing the connection, no ``STATE`` for ``state_timeout``, or a ``STATE`` whose
+    sequence number does not advance past the previous one's (a frozen robot) is a
+    fault: the next ``read()``/``write()`` raises :class:`DriverFault`, and the robot
+    holds on its own once its command times out.
 
     Args:
         world: The world (its model gives the configuration space).
@@ -85,10 +86,15 @@ class LoopbackDriver(ThreadedDriver):
     def _serve(self) -> None:
         connection = self._connection
         nq, nv = self.hello.nq, self.hello.nv
-        sent = 0
+        sent, sequence = 0, -1
         while not self._stop.is_set():
             message = connection.receive()
             if message.kind == protocol.STATE:
+                if message.sequence <= sequence:
+                    raise protocol.ProtocolError(
+                        f"STATE sequence number {message.sequence} does not advance past "
+                        f"the previous one ({sequence}): the robot's state is stale")
+                sequence = message.sequence
                 position, velocity, holding = protocol.decode_state(message, nq, nv)
                 self._publish(position, velocity, holding, time.monotonic())
             command = self.reader.sync()
@@ -105,6 +111,8 @@ class LoopbackDriver(ThreadedDriver):
             return f"no state from the robot at {where} for {self.state_timeout:g} s"
         if isinstance(error, ConnectionError):
             return f"connection to the robot at {where} lost ({error})"
+        if isinstance(error, protocol.ProtocolError):
+            return f"the robot at {where} broke the protocol: {error}"
         return super()._describe(error)
 
     def _close(self) -> None:

@@ -20,6 +20,8 @@ class JointLimits:
         urdf_velocity: The URDF's speed limits alone [rad/s or m/s] (never relaxed).
         owners: Per dof, the name of what sets its acceleration limit (a
             ``joint_kinematic`` constraint's label, or ``"the world's limits"``).
+        conflict: Why the position limits leave a joint no position at all (a lowest
+            above a highest), else ``None``.
     """
 
     lower: np.ndarray
@@ -28,6 +30,7 @@ class JointLimits:
     max_acceleration: np.ndarray
     urdf_velocity: np.ndarray
     owners: tuple[str, ...]
+    conflict: str | None = None
 
     @property
     def accelerated(self) -> np.ndarray:
@@ -58,4 +61,11 @@ def joint_limits(group, constraints) -> JointLimits:
             if value < acceleration[column]:
                 acceleration[column] = value
                 owners[column] = constraint.label
-    return JointLimits(lower, upper, velocity, acceleration, urdf_velocity, tuple(owners))
+    crossed = np.flatnonzero(lower > upper)
+    conflict = None
+    if crossed.size:
+        joint = crossed[0]
+        conflict = (f"the position limits of {group.joints[joint]} leave it no position "
+                    f"(lowest {lower[joint]:g} above highest {upper[joint]:g})")
+    return JointLimits(lower, upper, velocity, acceleration, urdf_velocity, tuple(owners),
+                       conflict)

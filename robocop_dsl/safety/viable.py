@@ -35,23 +35,37 @@ def approach_speed(distance, acceleration, time_step: float):
     return np.minimum(reach, braking)
 
 
-def joint_box(positions: np.ndarray, limits, time_step: float) -> tuple[np.ndarray, np.ndarray]:
+def joint_box(positions: np.ndarray, previous: np.ndarray, limits,
+              time_step: float) -> tuple[np.ndarray, np.ndarray]:
     """Velocity bounds [rad/s or m/s] that keep every joint within its position and speed
-    limits (a :class:`~robocop_dsl.safety.limits.JointLimits`) at ``positions``.
+    limits (a :class:`~robocop_dsl.safety.limits.JointLimits`) at ``positions``, the
+    ``previous`` command [rad/s or m/s] given.
 
-    A joint past a position limit is driven back at most at its speed limit. The box
+    A joint past a position limit may not go further out, and is driven back as fast as
+    its acceleration limit allows from ``previous`` (up to its speed limit). The box
     always holds zero velocity when the joint is inside its limits.
     """
-    share = limits.max_acceleration * BRAKING_SHARE
     speed = limits.max_velocity
-    upper = approach_speed(limits.upper - positions, share, time_step)
-    lower = -approach_speed(positions - limits.lower, share, time_step)
-    upper = np.clip(upper, -speed, speed)
-    lower = np.clip(lower, -speed, speed)
+    share = limits.max_acceleration * BRAKING_SHARE
+    step = limits.max_acceleration * time_step
+    upper = _side(limits.upper - positions, previous, share, step, speed, time_step)
+    lower = -_side(positions - limits.lower, -previous, share, step, speed, time_step)
     crossed = lower > upper
-    if crossed.any():   # a range narrower than a step: keep to what is between the bounds
+    if crossed.any():   # driven back towards a limit it must brake before: either will do
         lower[crossed], upper[crossed] = upper[crossed], lower[crossed]
     return lower, upper
+
+
+def _side(distance, previous, share, step, speed, time_step: float) -> np.ndarray:
+    """The bound on the speed towards limits ``distance`` away (one side of
+    :func:`joint_box`)."""
+    bound = approach_speed(distance, share, time_step)
+    past = distance < 0.0
+    if past.any():
+        with np.errstate(invalid="ignore"):
+            back = np.fmax(np.maximum(bound, -speed), previous - step)
+        bound = np.where(past, np.minimum(back, 0.0), bound)
+    return np.clip(bound, -speed, speed)
 
 
 def distance_rate_bounds(gap: np.ndarray, rows: np.ndarray, acceleration: np.ndarray,

@@ -25,12 +25,15 @@ from .description import to_seconds
 class Processor:
     """A checked ``processors:`` entry. ``options`` are those its implementation takes,
     durations in seconds and rates in hertz; ``driver`` is, for a ``qp_controller``,
-    the driver processor it commands (``None`` when none is on its joint group)."""
+    the driver processor it commands (``None`` when none is on its joint group);
+    ``run_options`` are the given options a run reads instead (a ``qp_controller``'s
+    ``state_tolerance``)."""
 
     name: str
     type: str
     options: dict
     driver: str | None = None
+    run_options: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -54,12 +57,14 @@ class RobocopOption:
 
 @dataclass(frozen=True)
 class ProcessorType:
-    """A processor type: its options, the RoboCoP options it accepts, and the options
-    that tie it to other processors rather than configure its implementation."""
+    """A processor type: its options, the RoboCoP options it accepts, the options that
+    tie it to other processors rather than configure its implementation, and those a
+    run reads rather than its implementation."""
 
     options: dict
     robocop: dict = field(default_factory=dict)
     world_only: tuple = ()
+    run_only: tuple = ()
 
 
 _VELOCITIES_ONLY = "this qp_controller is kinematic: it outputs joint velocities only"
@@ -91,13 +96,16 @@ PROCESSOR_TYPES = {
         "damping": Option("positive", 1e-6),
         "lm_damping": Option("non_negative", 1e-2),
         "driver": Option("driver"),
-    }, ROBOCOP_OPTIONS, world_only=("driver",)),
+        "state_tolerance": Option("non_negative", 0.05),
+    }, ROBOCOP_OPTIONS, world_only=("driver",), run_only=("state_tolerance",)),
     "meshcat": ProcessorType({"period": Option("duration", 0.04)}),
     "simulated": ProcessorType(dict(_DRIVER)),
     "loopback": ProcessorType({**_DRIVER, "port": Option("port"),
                                "launch": Option("flag", False)}),
 }
-"""Every processor type and its options."""
+"""Every processor type and its options. A ``qp_controller``'s ``state_tolerance``
+[rad] is how far past its URDF position limits the driver may report a joint of its
+group before the run faults (a prismatic joint: a tenth of it, in metres)."""
 
 DRIVER_TYPES = ("simulated", "loopback")
 _RATE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(Hz|kHz|MHz)\s*$")
@@ -164,8 +172,9 @@ def _check(entry, names, out: list) -> Processor | None:
             options[str(key)] = converted
     _required(entry, kind, out)
     _rules(entry, options, out)
-    passed = {k: v for k, v in options.items() if k not in kind.world_only}
-    return Processor(entry.name, entry.type, passed)
+    passed = {k: v for k, v in options.items() if k not in kind.world_only + kind.run_only}
+    run_options = {k: v for k, v in options.items() if k in kind.run_only}
+    return Processor(entry.name, entry.type, passed, run_options=run_options)
 
 
 def _option(entry, kind: ProcessorType, key: str, value, names, out: list):

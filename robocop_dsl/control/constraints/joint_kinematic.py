@@ -27,7 +27,8 @@ class JointKinematicConstraint(Constraint):
     Velocity and acceleration limits never exceed the world's (the URDF's): a larger
     value given here is lowered to it. A continuous joint has no position limit by
     default; its position is its angle in (-pi, pi]. A joint outside its position
-    range is driven back as fast as its velocity limit allows. When the acceleration
+    range may not go further out, and is driven back as fast as its acceleration and
+    velocity limits allow. When the acceleration
     bound conflicts with the others (e.g. after the state jumped), the velocity closest
     to ``prev`` within the others is taken and the controller reports the relaxation.
 
@@ -125,10 +126,10 @@ class JointKinematicConstraint(Constraint):
         limits = JointLimits(self._min_position, self._max_position, self._max_velocity,
                              self._max_acceleration, self._max_velocity,
                              (self.label,) * len(self.box_columns))
-        lower, upper = joint_box(state.group_positions[self.box_columns], limits,
+        previous = state.previous_command[self.box_columns]
+        lower, upper = joint_box(state.group_positions[self.box_columns], previous, limits,
                                  state.time_step)
-        acceleration_box(state.previous_command[self.box_columns], limits, state.time_step,
-                         lower, upper, self.group.joints)
+        acceleration_box(previous, limits, state.time_step, lower, upper, self.group.joints)
         return lower, upper
 
     def parameters(self) -> dict:
