@@ -21,11 +21,13 @@ from ..control.solvers.proxqp import ProxqpSolver
 
 BODY_WEIGHT = 1.0
 """Weight of the squared slack of ``body_velocity`` rows [(m/s)^-2 or (rad/s)^-2]."""
-ACCELERATION_WEIGHT = 1e4
+ACCELERATION_WEIGHT = 1e3
 """Weight of the squared slack of acceleration limits [(rad/s)^-2]: far above the
 bodies', so that they are relaxed first."""
-COMMAND_WEIGHT = 1e-6
+COMMAND_WEIGHT = 1e-3
 """Weight of ``|dq - previous|^2``, keeping the relaxation QP strictly convex."""
+RELAXATION_TOLERANCE = 1e-9
+"""ProxQP's tolerance on the relaxation QP [command units]."""
 MARGIN = 1e-6
 """Added to every slack before the relaxed bounds are applied [command units]."""
 
@@ -101,7 +103,7 @@ class Relaxer:
         max_iter: The relaxation QP's iteration limit.
     """
 
-    def __init__(self, max_iter: int = 200):
+    def __init__(self, max_iter: int = 1000):
         self.max_iter = max_iter
 
     def relax(self, program: QuadraticProgram, hard: tuple[np.ndarray, np.ndarray],
@@ -176,7 +178,7 @@ class Relaxer:
         upper = np.concatenate((hard_upper, np.full(m_b + m_a, np.inf)))
         qp = QuadraticProgram(hessian, gradient, np.zeros((0, size)), np.zeros(0), C[keep],
                               low[keep], high[keep], lower, upper)
-        solution = ProxqpSolver(max_iter=self.max_iter).solve(qp)
+        solution = ProxqpSolver(eps_abs=RELAXATION_TOLERANCE, max_iter=self.max_iter).solve(qp)
         if not solution.found or not np.all(np.isfinite(solution.x)):
             return None
         x = solution.x
