@@ -60,18 +60,23 @@ class FakeRobot:
         self.server = socket.create_server((protocol.HOST, 0))
         self.port = self.server.getsockname()[1]
         self.simulator = RobotSimulator(world, GROUP)
+        self.connected = threading.Event()
         self.thread = threading.Thread(target=self._serve, args=(tamper,), daemon=True)
         self.thread.start()
 
     def _serve(self, tamper) -> None:
         client, _ = self.server.accept()
+        self.connected.set()
         connection = TamperedConnection(client, self.simulator.hello(), tamper, COMMANDS)
         self.simulator.serve_driver(connection, log=lambda text: None)
         client.close()
 
     def close(self) -> None:
-        self.server.close()
+        """Wait for the robot to lose its driver (connecting once when no driver did)."""
+        if not self.connected.is_set():
+            socket.create_connection((protocol.HOST, self.port)).close()
         self.thread.join()
+        self.server.close()
 
 
 def mission_on(tmp_path, port: int, controller_options: str = "",

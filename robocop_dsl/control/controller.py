@@ -240,16 +240,17 @@ class Controller:
         """One control cycle at configuration ``q`` (nq) and velocity ``dq`` (nv).
 
         ``dq`` defaults to the previous command. Never raises on bad numbers or an
-        infeasible QP: the result is then a zero command with ``solved=False``.
+        infeasible QP: a cycle whose constraints have no common command is relaxed
+        (``status == "relaxed"``), one whose solver spent its iteration budget takes the
+        braking QP's answer (``"solver_budget"``), both with ``solved=False``; only
+        non-finite input or contradictory position limits give a zero command
+        (``"no_solution"``).
         """
         start = time.perf_counter()
-        q = np.asarray(q, dtype=float)
-        reason = self._check_state(q, dq)
-        if reason:
-            return self._refuse(reason, start)
-        self.update_state(q, dq)
+        plan = self._begin(q, dq, start)
+        if isinstance(plan, ControlResult):
+            return plan
         state = self.state
-        plan = self._plan()
         hierarchy = plan.hierarchy
         jacobian, velocity, weight = hierarchy.jacobian, hierarchy.velocity, hierarchy.weight
         after_kinematics = time.perf_counter()
@@ -273,9 +274,6 @@ class Controller:
             if reason:
                 return self._refuse(reason, start)
         after_tasks = time.perf_counter()
-        if plan.limits.conflict:
-            return self._refuse(f"constraints have no common solution: {plan.limits.conflict}",
-                                start)
         relaxations = self._bounds(plan)
         after_constraints = time.perf_counter()
         command, level_results, more, exhausted = self._answer(plan, objectives)
@@ -290,6 +288,21 @@ class Controller:
                           end - start)
         return self._finish(ControlResult(command, status == "solved", level_results, timings,
                                           None, tuple(relaxations), status))
+
+    def _begin(self, q, dq, start: float):
+        """The cycle's plan at ``q`` and ``dq``, the kinematics updated; a refused
+        :class:`ControlResult` when they are not finite or the position limits leave a
+        joint no position."""
+        q = np.asarray(q, dtype=float)
+        reason = self._check_state(q, dq)
+        if reason:
+            return self._refuse(reason, start)
+        self.update_state(q, dq)
+        plan = self._plan()
+        if plan.limits.conflict:
+            return self._refuse(f"constraints have no common solution: {plan.limits.conflict}",
+                                start)
+        return plan
 
     def _check_state(self, q: np.ndarray, dq) -> str | None:
         model = self.kinematics.model
@@ -426,15 +439,9 @@ class Controller:
         (:mod:`robocop_dsl.safety.braking`); tasks are not computed. The command is
         zero once at rest."""
         start = time.perf_counter()
-        q = np.asarray(q, dtype=float)
-        reason = self._check_state(q, dq)
-        if reason:
-            return self._refuse(reason, start)
-        self.update_state(q, dq)
-        plan = self._plan()
-        if plan.limits.conflict:
-            return self._refuse(f"constraints have no common solution: {plan.limits.conflict}",
-                                start)
+        plan = self._begin(q, dq, start)
+        if isinstance(plan, ControlResult):
+            return plan
         relaxations = self._bounds(plan)
         command, more = self._braking_answer(plan)
         if command is None:

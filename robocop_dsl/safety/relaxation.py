@@ -144,11 +144,10 @@ class Relaxer:
         """The relaxation QP over ``[dq, body slack, acceleration slack]``; ``None`` when
         it has no solution."""
         n = program.g.shape[0]
-        body = [group for group in groups if group.relaxable]
-        body_rows = np.concatenate([np.arange(n_in)[g.rows] for g, n_in
-                                    in ((g, program.l.shape[0]) for g in body)]
-                                   ) if body else np.zeros(0, dtype=int)
-        hard_rows = np.setdiff1d(np.arange(program.l.shape[0]), body_rows)
+        every_row = np.arange(program.l.shape[0])
+        body_rows = np.concatenate([every_row[group.rows] for group in groups
+                                    if group.relaxable] or [np.zeros(0, dtype=int)])
+        hard_rows = np.setdiff1d(every_row, body_rows)
         accelerated = limits.accelerated
         m_b, m_a = len(body_rows), len(accelerated)
         size = n + m_b + m_a
