@@ -116,18 +116,18 @@ def run_against(tmp_path, panda, tamper, *options, controller_options: str = "",
     return code, read_events(tmp_path / "log")
 
 
-def faulted(code: int, events: list, *words: str) -> str:
-    """The fault's message, once checked: exit code 3, one fault event that names
-    ``words``, the outcome ``fault`` with the same message."""
+def faulted(code: int, events: list, *words: str) -> None:
+    """Check exit code 3, one fault event that names ``words``, and the outcome
+    ``fault`` with the same message."""
     assert code == 3
     [fault] = [e for e in events if e["kind"] == "fault"]
     message = fault["message"]
     assert all(word in message for word in words), message
     assert events[-1]["outcome"] == "fault" and events[-1]["message"].startswith(message)
-    return message
 
 
 def with_position(joint: int, value: float):
+    """A tamper that reports ``joint`` at ``value`` [rad]."""
     def tamper(position, velocity, sequence, first):
         position[joint] = value
         return position, velocity, sequence
@@ -135,6 +135,7 @@ def with_position(joint: int, value: float):
 
 
 def with_velocity(joint: int, value: float):
+    """A tamper that reports ``joint`` moving at ``value`` [rad/s]."""
     def tamper(position, velocity, sequence, first):
         velocity[joint] = value
         return position, velocity, sequence
@@ -177,6 +178,8 @@ def test_a_frozen_sequence_number_is_a_fault(tmp_path, panda):
 
     code, events = run_against(tmp_path, panda, frozen)
     faulted(code, events, "broke the protocol", "does not advance past")
+    elbow = read_timeseries(tmp_path / "log")["q.panda_joint4"]
+    assert np.abs(np.diff(elbow)).max() < 0.1
 
 
 def test_a_mission_that_handles_failures_takes_its_failure_path(tmp_path, panda):
