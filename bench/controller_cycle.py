@@ -39,7 +39,7 @@ import proxsuite
 
 from robocop_dsl.control import Controller
 from robocop_dsl.control.constraints.body_velocity import _DIRECTIONS, INSCRIBED_SCALE
-from robocop_dsl.control.constraints.joint_kinematic import BRAKING_SHARE
+from robocop_dsl.safety.viable import BRAKING_SHARE
 from robocop_dsl.world import load_world
 
 GAIN = 5.0

@@ -111,6 +111,17 @@ class SafetyCase:
     def name(self) -> str:
         return f"safety_{self.robot}_{self.seed}"
 
+    @property
+    def handles_failure(self) -> bool:
+        """Whether the mission has a ``controller.failed`` clause."""
+        return "when controller.failed" in self.text
+
+    def fault_expected(self, figures: RunFigures) -> bool:
+        """Whether a ``fault`` outcome is the mission's due: a cycle the controller had
+        to relax (or answer with the braking QP), and no clause to handle it."""
+        announced = figures.events["constraint_relaxed"] + figures.events["solver_budget"]
+        return bool(announced) and not self.handles_failure
+
     def write(self, folder: str | Path) -> Path:
         """Write ``NAME.mission`` and ``NAME.limits.json`` to ``folder``; return the
         mission's path."""

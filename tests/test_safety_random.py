@@ -3,7 +3,8 @@ run through the command line on BAZAR and the Panda; every logged cycle, the sto
 included, keeps the controller's promises, recomputed from the log: positions within
 the limits, collision pairs at least ``min_distance`` apart, velocities and
 accelerations within their limits (an acceleration over its limit only in a cycle that
-announces a ``constraint_relaxed``), finite values, and no fault."""
+announces a ``constraint_relaxed``), finite values, and no fault but the one a mission
+without a ``controller.failed`` clause asks for when a cycle was relaxed."""
 
 import pytest
 
@@ -25,8 +26,10 @@ def test_promises_hold(robot, seed, tmp_path, capsys):
     figures = check_run(tmp_path / "log", case.limits)
     report = (f"{robot} seed {seed} (safety_case({robot!r}, {seed})): exit {code}\n"
               f"{figures.report()}\n{output.out[-2000:]}{output.err[-2000:]}")
-    assert code in (0, 1), report
-    assert figures.outcome != "fault", report
+    if case.fault_expected(figures):
+        assert code in (0, 1, 3) and figures.outcome in ("success", "failure", "fault"), report
+    else:
+        assert code in (0, 1) and figures.outcome != "fault", report
     assert figures.violations == {}, report
 
 

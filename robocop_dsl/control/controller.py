@@ -18,8 +18,7 @@ from .results import ControlResult, Timings
 from .solvers import QuadraticProgram, make_solver
 from .state import ControlState, resolve_group
 from .tasks import TASKS, Task
-from ..safety import (BrakingProgram, JointLimits, Relaxer, RowGroup, acceleration_box,
-                      joint_box, joint_limits)
+from ..safety import BrakingProgram, JointBox, JointLimits, Relaxer, RowGroup, joint_limits
 from ..world.processors import option_default
 
 HIERARCHIES = ("strict", "weighted")
@@ -37,10 +36,11 @@ class _Plan:
     rows: list[tuple[Constraint, np.ndarray, np.ndarray, np.ndarray]]
     """Each row constraint with its rows of the QP's ``C``, ``l`` and ``u`` (views)."""
     limits: JointLimits
+    box: JointBox
     groups: list[RowGroup]
     """Each row constraint's rows, and whether a relaxation may add slack to them."""
     braking: BrakingProgram
-    hard: tuple[np.ndarray, np.ndarray] | None = None
+    hard: tuple[np.ndarray, np.ndarray]
     """The cycle's box before the acceleration limits [rad/s or m/s]."""
 
 
@@ -355,19 +355,21 @@ class Controller:
         plan = _Plan(self.state.revision,
                      [(task, hierarchy.task_rows(index)) for index, task in enumerate(tasks)],
                      hierarchy, first, [c for c in boxes if c is not first], rows, limits,
-                     groups, BrakingProgram(hierarchy, make_solver(self.solver, warm_start=False)))
+                     JointBox(limits, self.time_step), groups,
+                     BrakingProgram(hierarchy, make_solver(self.solver, warm_start=False)),
+                     (np.zeros(self.state.dofs), np.zeros(self.state.dofs)))
         self._cached_plan = plan
         return plan
 
     def _bounds(self, plan: _Plan) -> list:
         """Write the constraints' bounds and rows into the plan's QPs: the joint limits
-        table as viable bounds (:func:`~robocop_dsl.safety.viable.joint_box`), the other
+        table as viable bounds (:class:`~robocop_dsl.safety.joint_box.JointBox`), the other
         box constraints, the rows, then the acceleration limits. Returns the
         acceleration limits relaxed where a joint's box does not meet them."""
         state = self.state
         hierarchy = plan.hierarchy
-        lower, upper = joint_box(state.group_positions, state.previous_command, plan.limits,
-                                 state.time_step)
+        lower, upper = plan.hard
+        plan.box.write(state.group_positions, state.previous_command, lower, upper)
         if plan.full_box is not None:
             low, high = _part("constraint", plan.full_box, plan.full_box.compute_bounds, state)
             np.maximum(lower, low, out=lower)
@@ -379,11 +381,10 @@ class Controller:
             upper[columns] = np.minimum(upper[columns], high)
         for constraint, jacobian, low, high in plan.rows:
             _part("constraint", constraint, constraint.write_rows, state, jacobian, low, high)
-        plan.hard = (lower, upper)
         hierarchy.lower[:] = lower
         hierarchy.upper[:] = upper
-        return acceleration_box(state.previous_command, plan.limits, state.time_step,
-                                hierarchy.lower, hierarchy.upper, state.group.joints)
+        return plan.box.accelerations(state.previous_command, hierarchy.lower,
+                                      hierarchy.upper, state.group.joints)
 
     def _answer(self, plan: _Plan, objectives: list[Objective]):
         """``(command, level results, relaxations, exhausted)`` of a cycle whose bounds are

@@ -8,6 +8,8 @@
 - :mod:`~robocop_dsl.safety.limits`: the joint limits table of a controller;
 - :mod:`~robocop_dsl.safety.viable`: viable bounds, the approach speed from which the
   robot still stops before a limit or an obstacle;
+- :mod:`~robocop_dsl.safety.joint_box`: the joint limits table as the cycle's velocity
+  box;
 - :mod:`~robocop_dsl.safety.relaxation`: the order in which an infeasible cycle is
   relaxed, and the relaxation QP;
 - :mod:`~robocop_dsl.safety.braking`: the stop as a QP;
@@ -19,15 +21,16 @@
 from __future__ import annotations
 
 from .braking import AT_REST, SETTLING_TIME, BrakingProgram, stop_cycles
+from .joint_box import JointBox
 from .limits import JointLimits, joint_limits
 from .relaxation import Relaxation, Relaxer, RowGroup, acceleration_box
 from .report import SafetyReport
 from .robot_state import RobotStateCheck, RobotStateError
-from .viable import BRAKING_SHARE, approach_speed, distance_rate_bounds, joint_box
+from .viable import BRAKING_SHARE, approach_speed, distance_rate_bounds, viable_speed
 
 __all__ = [
-    "AT_REST", "BRAKING_SHARE", "BrakingProgram", "JointLimits", "Relaxation", "Relaxer",
-    "RobotStateCheck", "RobotStateError", "RowGroup", "SETTLING_TIME", "SafetyReport",
-    "acceleration_box", "approach_speed", "distance_rate_bounds", "joint_box",
-    "joint_limits", "stop_cycles",
+    "AT_REST", "BRAKING_SHARE", "BrakingProgram", "JointBox", "JointLimits", "Relaxation",
+    "Relaxer", "RobotStateCheck", "RobotStateError", "RowGroup", "SETTLING_TIME",
+    "SafetyReport", "acceleration_box", "approach_speed", "distance_rate_bounds",
+    "joint_limits", "stop_cycles", "viable_speed",
 ]

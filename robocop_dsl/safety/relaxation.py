@@ -29,7 +29,8 @@ COMMAND_WEIGHT = 1e-3
 RELAXATION_TOLERANCE = 1e-9
 """ProxQP's tolerance on the relaxation QP [command units]."""
 MARGIN = 1e-6
-"""Added to every slack before the relaxed bounds are applied [command units]."""
+"""Slack at or below this is none; above it, this is added to the slack before the
+relaxed bounds are applied [command units]."""
 
 
 @dataclass(frozen=True)
@@ -63,15 +64,18 @@ def acceleration_box(previous: np.ndarray, limits, time_step: float, lower: np.n
     relaxed by the smallest amount, and reported (``joints`` names the dofs)."""
     step = limits.max_acceleration * time_step
     low, high = previous - step, previous + step
-    apart = (low > upper) | (high < lower)
+    apart = np.greater(low, upper)
+    apart |= np.less(high, lower)
     relaxed = []
     if apart.any():
-        closest = np.clip(previous, lower, upper)
-        low[apart] = high[apart] = closest[apart]
-        excess = np.abs(closest - previous)[apart] / time_step - limits.max_acceleration[apart]
-        for owner in sorted({limits.owners[i] for i in np.flatnonzero(apart)}):
-            mine = [k for k, i in enumerate(np.flatnonzero(apart)) if limits.owners[i] == owner]
-            relaxed.append(Relaxation(owner, tuple(joints[np.flatnonzero(apart)[k]] for k in mine),
+        apart = np.flatnonzero(apart)
+        closest = np.clip(previous[apart], lower[apart], upper[apart])
+        low[apart] = high[apart] = closest
+        excess = np.abs(closest - previous[apart]) / time_step - limits.max_acceleration[apart]
+        owners = [limits.owners[i] for i in apart]
+        for owner in sorted(set(owners)):
+            mine = [k for k, name in enumerate(owners) if name == owner]
+            relaxed.append(Relaxation(owner, tuple(joints[apart[k]] for k in mine),
                                       float(excess[mine].max()), "rad/s^2"))
     np.maximum(lower, low, out=lower)
     np.minimum(upper, high, out=upper)
@@ -197,8 +201,9 @@ class Relaxer:
             indices = np.arange(n_in)[group.rows]
             slack = body_slack[j:j + len(indices)]
             j += len(indices)
-            program.l[indices] -= slack + MARGIN
-            program.u[indices] += slack + MARGIN
+            widen = np.where(slack > MARGIN, slack + MARGIN, 0.0)
+            program.l[indices] -= widen
+            program.u[indices] += widen
             relaxed = np.flatnonzero(slack > MARGIN)
             if relaxed.size:
                 relaxations.append(Relaxation(group.label, tuple(int(r) for r in relaxed),
@@ -206,7 +211,8 @@ class Relaxer:
         accelerated = limits.accelerated
         step = np.full(len(previous), np.inf)
         step[accelerated] = (limits.max_acceleration[accelerated] * time_step
-                             + acceleration_slack + MARGIN)
+                             + np.where(acceleration_slack > MARGIN,
+                                        acceleration_slack + MARGIN, 0.0))
         np.maximum(hard_lower, previous - step, out=program.lower)
         np.minimum(hard_upper, previous + step, out=program.upper)
         relaxed = accelerated[acceleration_slack > MARGIN]

@@ -20,6 +20,9 @@ import numpy as np
 
 BRAKING_SHARE = 0.5
 """Share of the acceleration limit a viable bound plans its braking with."""
+HARD_BRAKING_SHARE = 0.8
+"""Share of the acceleration limit a speed already above the viable bound brakes at
+(the rest is left to the distance's curvature and the other constraints)."""
 
 
 def approach_speed(distance, acceleration, time_step: float):
@@ -35,53 +38,36 @@ def approach_speed(distance, acceleration, time_step: float):
     return np.minimum(reach, braking)
 
 
-def joint_box(positions: np.ndarray, previous: np.ndarray, limits,
-              time_step: float) -> tuple[np.ndarray, np.ndarray]:
-    """Velocity bounds [rad/s or m/s] that keep every joint within its position and speed
-    limits (a :class:`~robocop_dsl.safety.limits.JointLimits`) at ``positions``, the
-    ``previous`` command [rad/s or m/s] given.
-
-    A joint past a position limit may not go further out, and is driven back as fast as
-    its acceleration limit allows from ``previous`` (up to its speed limit). The box
-    always holds zero velocity when the joint is inside its limits.
-    """
-    speed = limits.max_velocity
-    share = limits.max_acceleration * BRAKING_SHARE
-    step = limits.max_acceleration * time_step
-    upper = _side(limits.upper - positions, previous, share, step, speed, time_step)
-    lower = -_side(positions - limits.lower, -previous, share, step, speed, time_step)
-    crossed = lower > upper
-    if crossed.any():   # driven back towards a limit it must brake before: either will do
-        lower[crossed], upper[crossed] = upper[crossed], lower[crossed]
-    return lower, upper
+def viable_speed(distance, speed, acceleration, time_step: float):
+    """The bound [rad/s or m/s] on the speed towards a limit ``distance`` away, the
+    current ``speed`` towards it given: :func:`approach_speed` at :data:`BRAKING_SHARE`
+    of ``acceleration``. A speed already above that bound (a limit that came within
+    reach while moving fast) is only asked to brake at :data:`HARD_BRAKING_SHARE` of
+    ``acceleration``, as long as that still stops before the limit; otherwise the
+    share's bound stands, and the cycle relaxes the acceleration limit."""
+    bound = approach_speed(distance, acceleration * BRAKING_SHARE, time_step)
+    hard = acceleration * HARD_BRAKING_SHARE
+    full = approach_speed(distance, hard, time_step)
+    with np.errstate(invalid="ignore"):
+        braked = np.minimum(speed - hard * time_step, full)
+    return np.where(speed > bound, np.fmax(bound, braked), bound)
 
 
-def _side(distance, previous, share, step, speed, time_step: float) -> np.ndarray:
-    """The bound on the speed towards limits ``distance`` away (one side of
-    :func:`joint_box`)."""
-    bound = approach_speed(distance, share, time_step)
-    past = distance < 0.0
-    if past.any():
-        with np.errstate(invalid="ignore"):
-            back = np.fmax(np.maximum(bound, -speed), previous - step)
-        bound = np.where(past, np.minimum(back, 0.0), bound)
-    return np.clip(bound, -speed, speed)
-
-
-def distance_rate_bounds(gap: np.ndarray, rows: np.ndarray, acceleration: np.ndarray,
-                         time_step: float) -> np.ndarray:
+def distance_rate_bounds(gap: np.ndarray, rows: np.ndarray, rate: np.ndarray,
+                         acceleration: np.ndarray, time_step: float) -> np.ndarray:
     """Lower bounds [m/s] on the rates of distances ``gap`` [m] above their smallest
-    allowed value, so that each pair can still stop before it: the distance's rate
-    ``rows @ dq`` can change by at most ``|rows| @ a`` per second under the joints'
-    ``acceleration`` limits [rad/s^2 or m/s^2], of which :data:`BRAKING_SHARE` is planned.
+    allowed value, their current ``rate`` [m/s] given, so that each pair can still stop
+    before it (:func:`viable_speed`): the distance's rate ``rows @ dq`` can change by at
+    most ``|rows| @ a`` per second under the joints' ``acceleration`` limits
+    [rad/s^2 or m/s^2].
 
     ``-inf`` where no acceleration limit applies (the damper alone then bounds the
     approach)."""
     finite = np.isfinite(acceleration)
     if not finite.any():
         return np.full(len(gap), -np.inf)
-    braking = np.abs(rows[:, finite]) @ acceleration[finite] * BRAKING_SHARE
+    capacity = np.abs(rows[:, finite]) @ acceleration[finite]
     if not finite.all():
         free = np.abs(rows[:, ~finite]).sum(axis=1) > 1e-12
-        braking[free] = np.inf
-    return -approach_speed(np.maximum(gap, 0.0), braking, time_step)
+        capacity[free] = np.inf
+    return -viable_speed(np.maximum(gap, 0.0), -rate, capacity, time_step)

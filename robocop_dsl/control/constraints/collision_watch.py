@@ -154,7 +154,8 @@ class CollisionWatch:
                            in zip(self._owners, cuts, cuts[1:]) if end > start}
         rows = scene.distance_rows(nearby, state.columns)
         damper = self._offset - self._damping * nearby.distances
-        bounds = damper_bounds(damper, rows @ state.velocity, self._damping, state.time_step)
-        viable = distance_rate_bounds(damper / -self._damping, rows, state.max_acceleration,
-                                      state.time_step)
+        rate = rows @ state.velocity
+        bounds = damper_bounds(damper, rate, self._damping, state.time_step)
+        viable = distance_rate_bounds(damper / -self._damping, rows, rate,
+                                      state.max_acceleration, state.time_step)
         self.seen = Seen(scene, nearby, rows, np.maximum(bounds, viable, out=viable))

@@ -7,9 +7,8 @@ import numpy as np
 from ..exceptions import InvalidParameter, UnknownName
 from ..parameters import vector_parameter
 from ..state import ControlState
+from ...safety.joint_box import JointBox
 from ...safety.limits import JointLimits
-from ...safety.relaxation import acceleration_box
-from ...safety.viable import joint_box
 from .base import Constraint
 
 
@@ -127,9 +126,10 @@ class JointKinematicConstraint(Constraint):
                              self._max_acceleration, self._max_velocity,
                              (self.label,) * len(self.box_columns))
         previous = state.previous_command[self.box_columns]
-        lower, upper = joint_box(state.group_positions[self.box_columns], previous, limits,
-                                 state.time_step)
-        acceleration_box(previous, limits, state.time_step, lower, upper, self.group.joints)
+        box = JointBox(limits, state.time_step)
+        lower, upper = np.zeros(len(previous)), np.zeros(len(previous))
+        box.write(state.group_positions[self.box_columns], previous, lower, upper)
+        box.accelerations(previous, lower, upper, self.group.joints)
         return lower, upper
 
     def parameters(self) -> dict:
