@@ -5,10 +5,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
-from robocop_dsl.runtime import load_mission
+from robocop_dsl.runtime import load_mission, read_events, read_timeseries
 from robocop_dsl.world.collision_scene import CollisionScene
 from robocop_dsl.world.collisions import checked_pairs
 
@@ -44,6 +46,60 @@ def test_the_tool_is_held_at_min_distance_above_the_workbench(bazar):
     assert tool[2] > surface + 0.02
     target = kinematics.body_pose("pickup_point").translation + np.array([0, 0, -0.15])
     assert tool[2] - target[2] > 0.15
+
+
+PUSH = HEADER + """
+let under_the_surface = pickup_point offset [0, 0, -12] cm
+constraint joint_limits: joint_kinematic(bazar_upper_joints) {
+    max_velocity     = 1 rad/s
+    max_acceleration = 5 rad/s^2
+}
+constraint keep_off_the_workbench: collision_avoidance(bazar_arms, workbench) {
+    min_distance = 1 cm
+    influence    = 10 cm
+    damping      = 4
+}
+task left_tool: body_pose(bazar_left_hankamp_tool_object_side) {
+    interpolator = otg(max_velocity = 0.2 m/s, max_acceleration = 0.5 m/s^2)
+    feedback     = proportional(gain = 5)
+}
+state reach {
+    enter { enable left_tool
+            left_tool.target = under_the_surface }
+    when left_tool.reached -> went_through
+    when elapsed > 8 s -> held
+}
+final held
+final went_through: failure
+"""
+
+
+def test_a_push_under_the_workbench_is_held_at_min_distance(tmp_path, bazar):
+    """The tool pushed 12 cm under the surface with ``min_distance = 1 cm`` and no
+    ``controller.failed`` clause: the state times out (success), nothing is relaxed, and
+    coal on the logged joint positions finds the arms never closer than 9 mm to the
+    workbench and held within a few millimetres of ``min_distance`` at the end."""
+    from test_collision_random import smallest_distance
+
+    path = tmp_path / "push.mission"
+    path.write_text(PUSH)
+    done = robocop("run", path, "--log", tmp_path / "log")
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "outcome: success  final state: held" in done.stdout
+    kinds = {event["kind"] for event in read_events(tmp_path / "log")}
+    assert not kinds & {"constraint_relaxed", "solver_budget", "qp_failure", "fault"}
+    series = read_timeseries(tmp_path / "log")
+    group = bazar.joint_group("bazar_upper_joints")
+    log = []
+    for row in range(len(series["time"])):
+        q = bazar.initial_configuration()
+        q[group.q_indices] = [series[f"q.{joint}"][row] for joint in group.joints]
+        log.append(q)
+    scene = SimpleNamespace(constraints=(("bazar_arms", "workbench"),))
+    closest, _ = smallest_distance(bazar, scene, log)
+    final, _ = smallest_distance(bazar, scene, log[-1:])
+    assert closest >= 0.01 - 1e-3, closest
+    assert final < 0.015, final
 
 
 @pytest.mark.parametrize("body, code, line, column", [

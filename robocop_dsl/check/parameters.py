@@ -199,6 +199,7 @@ def check_order(ctx: CheckContext, low: str, high: str,
     highs = numbers[high][1] if high in numbers else joints.upper
     bad = [i for i, (a, b) in enumerate(zip(lows, highs)) if a > b]
     if not bad:
+        _check_against_urdf(ctx, low, high, numbers, joints, located, given)
         return
     index = bad[0]
     unit = "m" if joints.joint_types[index] == "prismatic" else "rad"
@@ -213,6 +214,30 @@ def check_order(ctx: CheckContext, low: str, high: str,
               f"'{low}' is above '{high}' at joint {index + 1} of '{joints.name}': "
               f"{lows[index]:.4g} > {highs[index]:.4g} {unit}{defaulted}{more}", span,
               f"every value of '{low}' must be at most the matching value of '{high}'")
+
+
+def _check_against_urdf(ctx: CheckContext, low: str, high: str, numbers, joints: Joints,
+                        located: str | None, given: list[str]) -> None:
+    """Report the first joint that ``low`` puts above its URDF upper limit, or ``high``
+    below its lower one: the two ranges leave it no position."""
+    for name, values, urdf, sign, side in (
+            (low, numbers[low][1] if low in numbers else None, joints.upper, 1, "upper"),
+            (high, numbers[high][1] if high in numbers else None, joints.lower, -1, "lower")):
+        if values is None:
+            continue
+        bad = [i for i, (a, b) in enumerate(zip(values, urdf)) if sign * (a - b) > 0]
+        if not bad:
+            continue
+        index = bad[0]
+        unit = "m" if joints.joint_types[index] == "prismatic" else "rad"
+        more = f" (and {len(bad) - 1} more joints)" if len(bad) > 1 else ""
+        ctx.error("inverted-limits",
+                  f"'{name}' is {'above' if sign > 0 else 'below'} the URDF's {side} limit "
+                  f"at joint {index + 1} of '{joints.name}': {values[index]:.4g} "
+                  f"{'>' if sign > 0 else '<'} {urdf[index]:.4g} {unit}{more}",
+                  numbers[located if located in numbers else name][0].span,
+                  "the joint keeps within both ranges: they must overlap")
+        return
 
 
 def _applies(parameter: Parameter, subject: Subject) -> bool:
