@@ -18,7 +18,10 @@ from .results import ControlResult, Timings
 from .solvers import QuadraticProgram, make_solver
 from .state import ControlState, resolve_group
 from .tasks import TASKS, Task
-from ..safety import BrakingProgram, JointBox, JointLimits, Relaxer, RowGroup, joint_limits
+from ..safety.braking import BrakingProgram
+from ..safety.joint_box import JointBox
+from ..safety.limits import JointLimits, joint_limits
+from ..safety.relaxation import Relaxer, RowGroup
 from ..world.processors import option_default
 
 HIERARCHIES = ("strict", "weighted")

@@ -22,59 +22,21 @@ run and recorded like any other, in the state that ended the run; every observer
 
 from __future__ import annotations
 
-import math
-import random
 import time as clock
 import traceback
 
 import numpy as np
 
-from ..control.exceptions import PartFailed
 from ..diagnostics import RobocopError
-from ..safety import SafetyReport, stop_cycles
+from ..safety.guard import RunGuard
 from ..safety.robot_state import RobotStateCheck
+from .cycle_times import CycleTimes
+from .faults import error_text, fault_place, origin
 from .program import Program
 from .records import CycleRecord, Event
 from .result import RunResult, TransitionRecord
-from .statechart import Statechart, StepFailed
+from .statechart import Statechart
 from .views import TaskViews, task_views
-
-SAMPLED_CYCLES = 1 << 16
-"""How many cycle times a run keeps for its statistics (a uniform sample beyond)."""
-
-
-class CycleTimes:
-    """Cycle and compute times [s] of a run in constant memory: every cycle until
-    ``capacity``, then a uniform sample of them (reservoir sampling, seeded), the slowest
-    cycle always among them."""
-
-    def __init__(self, capacity: int = SAMPLED_CYCLES):
-        self._cycle = np.empty(capacity)
-        self._compute = np.empty(capacity)
-        self._count = 0
-        self._slowest = (-math.inf, 0.0)
-        self._random = random.Random(0)
-
-    def __len__(self) -> int:
-        return self._count
-
-    def add(self, cycle_time: float, compute_time: float) -> None:
-        count, capacity = self._count, len(self._cycle)
-        self._count += 1
-        if cycle_time > self._slowest[0]:
-            self._slowest = (cycle_time, compute_time)
-        slot = count if count < capacity else self._random.randrange(count + 1)
-        if slot < capacity:
-            self._cycle[slot], self._compute[slot] = cycle_time, compute_time
-
-    def arrays(self) -> tuple:
-        """``(cycle_times, compute_times)`` of the kept cycles, the slowest included."""
-        kept = min(self._count, len(self._cycle))
-        cycles, computes = self._cycle[:kept].copy(), self._compute[:kept].copy()
-        if kept and self._slowest[0] > cycles.max():
-            cycles[0], computes[0] = self._slowest
-        return cycles, computes
-
 
 class Runner:
     """Runs a :class:`Program` with a controller, its kinematics and a driver.
@@ -119,12 +81,10 @@ class Runner:
         self._done: str | None = None
         self._message = ""
         self._stop_request: tuple | None = None
-        self._stopping_cycles = 0
         self._driver_lost = False
         self._held = False
-        self._stop_cycles: int | None = None
-        self.safety = SafetyReport()
-        """What the run kept of its promises (:mod:`robocop_dsl.safety.report`)."""
+        self.guard = RunGuard(controller, self._notify_event)
+        """The safety layer's part of the run (:mod:`robocop_dsl.safety.guard`)."""
         self._last_command = np.zeros(len(self.joint_names))
         self._result: RunResult | None = None
         self._broken: set = set()
@@ -192,7 +152,7 @@ class Runner:
             self.q = q
         except Exception as error:  # any driver failure is the run's fault
             self._driver_fault(error)
-            self._finish("fault", f"driver: {_text(error)}")
+            self._finish("fault", f"driver: {error_text(error)}")
             return
         try:
             self.kinematics.update(self.q)
@@ -326,7 +286,7 @@ class Runner:
             self._fault(error)
         if command is None:
             command = self._stopping_command()
-        self.safety.observe(self.controller, command, self._last_command)
+        self.guard.observe(command, self._last_command)
         self._write(command)
         self._record(command, solved, compute_time, clock.perf_counter() - started)
         self._times.add(clock.perf_counter() - started, compute_time)
@@ -338,7 +298,7 @@ class Runner:
             return np.zeros(len(self.joint_names)), True, 0.0
         result = self.controller.compute(self.q)
         self.failed = not result.solved
-        self._announce(result)
+        self.guard.announce(result, self.state)
         if result.status == "no_solution":
             self._qp_failures += 1
             self._message = f"no QP solution in state '{self.state}': {result.reason}"
@@ -347,36 +307,14 @@ class Runner:
             result = self.controller.brake(self.q)
         return result.velocity, result.solved, result.timings.total
 
-    def _announce(self, result) -> None:
-        """Count and announce the relaxations and the spent budget of a cycle."""
-        if result.solved:
-            return
-        self.safety.count(result)
-        if result.status == "solver_budget":
-            self._notify_event("solver_budget", {
-                "message": "the QP solver spent its iteration budget: braking QP's command",
-                "state": self.state})
-        for relaxation in result.relaxations:
-            self._notify_event("constraint_relaxed", {**relaxation.as_event(),
-                                                      "state": self.state})
-
     def _stopping_command(self) -> np.ndarray:
-        """The command of a cycle after the outcome was decided: the braking QP's, until
-        at rest (for at most :func:`~robocop_dsl.safety.braking.stop_cycles`: then
-        zero)."""
-        if self._stop_cycles is None:
-            self._stop_cycles = stop_cycles(self.controller.limits, self._last_command,
-                                            self.time_step)
-        self._stopping_cycles += 1
-        if self._driver_lost or self._stopping_cycles > self._stop_cycles:
-            return np.zeros(len(self.joint_names))
+        """The command of a cycle after the outcome was decided: the braking QP's
+        (:meth:`~robocop_dsl.safety.guard.RunGuard.brake`); zero if a constraint raises."""
         try:
-            result = self.controller.brake(self.q)
+            return self.guard.brake(self.q, self._last_command, self.state, self._driver_lost)
         except Exception as error:  # a constraint that raises: hold rather than move
             self._fault(error)
             return np.zeros(len(self.joint_names))
-        self._announce(result)
-        return result.velocity
 
     def _write(self, command: np.ndarray) -> None:
         if self._driver_lost:
@@ -435,32 +373,22 @@ class Runner:
 
     def _fault(self, error: BaseException, where: str | None = None) -> None:
         """End the run with outcome ``fault`` for ``error`` raised in the loop."""
-        message = f"{where or self._where(error)}: {_text(_origin(error))}"
+        message = f"{where or fault_place(error, self.state)}: {error_text(origin(error))}"
         self.failed = True
         if self._done is None:
-            self.error, self._raised = _origin(error), error
+            self.error, self._raised = origin(error), error
             self._finish("fault", message)
         self._notify_event("fault", {"message": message, "state": self.state})
-
-    def _where(self, error: BaseException) -> str:
-        """What raised ``error``, in the mission's words: the clause or block, its action
-        and the state, and the task or constraint when one raised."""
-        where, cause = None, error
-        if isinstance(error, StepFailed):
-            where, cause = error.where, error.__cause__
-        owner = cause.owner if isinstance(cause, PartFailed) else None
-        if where is not None:
-            return f"{where}, {owner}" if owner else where
-        return f"{owner or 'controller'} in state '{self.state}'"
 
     def _driver_fault(self, error: Exception) -> None:
         self._driver_lost = True
         self.failed = True
         if self._done is None:
-            self._message = f"driver: {_text(error)}"
+            self._message = f"driver: {error_text(error)}"
             if not isinstance(error, RobocopError):
                 self.error = self._raised = error
-        self._notify_event("fault", {"message": f"driver: {_text(error)}", "state": self.state})
+        self._notify_event("fault", {"message": f"driver: {error_text(error)}",
+                                     "state": self.state})
 
     def _on_transition(self, source: str, target: str, condition: str) -> None:
         """A clause fires (before its actions): record it and tell the observers."""
@@ -512,40 +440,25 @@ class Runner:
     def _close(self) -> RunResult:
         cycle_times, compute_times = self._times.arrays()
         message = self._message
-        if self._stopping_cycles > 1:
-            message += (f"; brought to rest in {self._stopping_cycles * self.time_step:.3f} s"
-                        " by the braking QP")
+        if self.guard.stopping_cycles > 1:
+            stop = self.guard.stopping_cycles * self.time_step
+            message += f"; brought to rest in {stop:.3f} s by the braking QP"
         result = RunResult(self._done or "stopped", self.state, self.time, self.cycle,
                            list(self._transitions), cycle_times, compute_times,
-                           self._qp_failures, self._overruns, message, self.safety)
+                           self._qp_failures, self._overruns, message, self.guard.report)
         self._notify_event("end", {"outcome": result.outcome, "state": result.final_state,
                                    "message": result.message,
                                    "holding": self._holding(),
-                                   "safety": self.safety.as_event()})
+                                   "safety": self.guard.report.as_event()})
         for observer in self.observers:
             try:
                 observer.on_stop(result)
             except Exception as error:  # every observer gets its on_stop
                 result.message += (f"; observer {type(observer).__name__}.on_stop: "
-                                   f"{_text(error)}")
+                                   f"{error_text(error)}")
         try:
             self.driver.disconnect()
         except Exception as error:  # the run is over: report, do not raise
-            result.message += f"; driver disconnect: {_text(error)}"
+            result.message += f"; driver disconnect: {error_text(error)}"
         self._result = result
         return result
-
-
-def _origin(error: BaseException) -> BaseException:
-    """The exception that started ``error``, through the wrappers that name where it
-    was raised."""
-    while isinstance(error, (StepFailed, PartFailed)) and error.__cause__ is not None:
-        error = error.__cause__
-    return error
-
-
-def _text(error: BaseException) -> str:
-    """An exception as one line: its type (unless a RobocopError) and message."""
-    if isinstance(error, RobocopError):
-        return str(error)
-    return f"{type(error).__name__}: {error}" if str(error) else type(error).__name__

@@ -14,12 +14,15 @@
   relaxed, and the relaxation QP;
 - :mod:`~robocop_dsl.safety.braking`: the stop as a QP;
 - :mod:`~robocop_dsl.safety.robot_state`: the driver's state, validated every cycle;
+- :mod:`~robocop_dsl.safety.robot_state`: the driver's state checked every cycle;
 - :mod:`~robocop_dsl.safety.report`: the smallest clearances and largest excesses of a
-  run.
+  run;
+- :mod:`~robocop_dsl.safety.guard`: what a run's loop asks of the layer every cycle.
 """
 
 from __future__ import annotations
 
+from .guard import RunGuard
 from .braking import AT_REST, SETTLING_TIME, BrakingProgram, stop_cycles
 from .joint_box import JointBox
 from .limits import JointLimits, joint_limits
@@ -30,7 +33,7 @@ from .viable import BRAKING_SHARE, approach_speed, distance_rate_bounds, viable_
 
 __all__ = [
     "AT_REST", "BRAKING_SHARE", "BrakingProgram", "JointBox", "JointLimits", "Relaxation",
-    "Relaxer", "RobotStateCheck", "RobotStateError", "RowGroup", "SETTLING_TIME",
+    "Relaxer", "RobotStateCheck", "RunGuard", "RobotStateError", "RowGroup", "SETTLING_TIME",
     "SafetyReport", "acceleration_box", "approach_speed", "distance_rate_bounds",
     "joint_limits", "stop_cycles", "viable_speed",
 ]

@@ -11,10 +11,12 @@ a limit.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..control.solvers.base import QPSolver, QuadraticProgram
+if TYPE_CHECKING:
+    from ..control.solvers.base import QPSolver
 
 SETTLING_TIME = 1.0
 """[s] How long a stop may go on past the time its braking needs at the acceleration
@@ -33,6 +35,8 @@ class BrakingProgram:
     """
 
     def __init__(self, hierarchy, solver: QPSolver):
+        from ..control.solvers.base import QuadraticProgram   # the controller imports this
+
         n = hierarchy.lower.shape[0]
         self.program = QuadraticProgram(np.eye(n), np.zeros(n), np.zeros((0, n)), np.zeros(0),
                                         hierarchy.C, hierarchy.l, hierarchy.u, hierarchy.lower,

@@ -87,7 +87,7 @@ class JointBox:
         upper[:] = bound[:n]
         np.negative(bound[n:], out=lower)
         crossed = np.greater(lower, upper, out=self._mask[:n])
-        if np.count_nonzero(crossed):   # driven back towards a limit it must brake before: either will do
+        if np.count_nonzero(crossed):   # back towards a limit it must brake before: either
             crossed = np.flatnonzero(crossed)
             lower[crossed], upper[crossed] = upper[crossed], lower[crossed]
 

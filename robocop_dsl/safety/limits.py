@@ -17,7 +17,6 @@ class JointLimits:
         upper: Highest positions [rad or m].
         max_velocity: Speed limits [rad/s or m/s].
         max_acceleration: Acceleration limits [rad/s^2 or m/s^2].
-        urdf_velocity: The URDF's speed limits alone [rad/s or m/s] (never relaxed).
         owners: Per dof, the name of what sets its acceleration limit (a
             ``joint_kinematic`` constraint's label, or ``"the world's limits"``).
         conflict: Why the position limits leave a joint no position at all (a lowest
@@ -28,14 +27,8 @@ class JointLimits:
     upper: np.ndarray
     max_velocity: np.ndarray
     max_acceleration: np.ndarray
-    urdf_velocity: np.ndarray
     owners: tuple[str, ...]
     conflict: str | None = None
-
-    @property
-    def accelerated(self) -> np.ndarray:
-        """The dofs with a finite acceleration limit."""
-        return np.flatnonzero(np.isfinite(self.max_acceleration))
 
 
 WORLD = "the world's limits"
@@ -48,8 +41,7 @@ def joint_limits(group, constraints) -> JointLimits:
     :meth:`~robocop_dsl.control.constraints.JointKinematicConstraint.joint_limits`)."""
     lower = np.array(group.lower, dtype=float)
     upper = np.array(group.upper, dtype=float)
-    urdf_velocity = np.array(group.max_velocity, dtype=float)
-    velocity = urdf_velocity.copy()
+    velocity = np.array(group.max_velocity, dtype=float)
     acceleration = np.array(group.max_acceleration, dtype=float)
     owners = [WORLD] * len(lower)
     for constraint in constraints:
@@ -67,5 +59,4 @@ def joint_limits(group, constraints) -> JointLimits:
         joint = crossed[0]
         conflict = (f"the position limits of {group.joints[joint]} leave it no position "
                     f"(lowest {lower[joint]:g} above highest {upper[joint]:g})")
-    return JointLimits(lower, upper, velocity, acceleration, urdf_velocity, tuple(owners),
-                       conflict)
+    return JointLimits(lower, upper, velocity, acceleration, tuple(owners), conflict)

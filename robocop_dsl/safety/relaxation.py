@@ -1,8 +1,12 @@
 """Relax, never give up: when the hard set of a cycle has no common command, slack is
-added in a fixed order and minimised.
+added in a fixed order and minimised:
 
 1. ``body_velocity`` bounds;
 2. the acceleration limits (the mission's and the world's).
+
+Lexicographically, in two QPs: first the acceleration limits' slack, the
+``body_velocity`` bounds all but free; then the bounds' slack, within the acceleration
+limits so relaxed.
 
 Position limits, the URDF's speed limits and collision distances are never traded
 away, except to allow what the current state already does: a joint past a position
@@ -13,17 +17,16 @@ velocity) instead of being driven back. Each relaxation is a :class:`Relaxation`
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..control.solvers.base import QuadraticProgram
-from ..control.solvers.proxqp import ProxqpSolver
+if TYPE_CHECKING:
+    from ..control.solvers.base import QuadraticProgram
 
-BODY_WEIGHT = 1.0
-"""Weight of the squared slack of ``body_velocity`` rows [(m/s)^-2 or (rad/s)^-2]."""
-ACCELERATION_WEIGHT = 1e3
-"""Weight of the squared slack of acceleration limits [(rad/s)^-2]: far above the
-bodies', so that they are relaxed first."""
+FREE_WEIGHT = 1e-6
+"""Weight of the squared slack of ``body_velocity`` rows while the acceleration limits'
+slack is minimised (against 1): they are relaxed first."""
 COMMAND_WEIGHT = 1e-3
 """Weight of ``|dq - previous|^2``, keeping the relaxation QP strictly convex."""
 RELAXATION_TOLERANCE = 1e-9
@@ -129,34 +132,52 @@ class Relaxer:
             joints: The dofs' names.
         """
         hard_lower, hard_upper = hard[0].copy(), hard[1].copy()
+        steps = limits.max_acceleration * time_step
         held: list[Relaxation] = []
-        found = self._solve(program, hard_lower, hard_upper, previous, limits, time_step,
-                            groups)
+        found = self._solve(program, hard_lower, hard_upper, previous, groups, steps, True)
         if found is None:
             held = _hold_what_is_broken(program, hard_lower, hard_upper, groups, joints)
-            found = self._solve(program, hard_lower, hard_upper, previous, limits,
-                                time_step, groups)
+            found = self._solve(program, hard_lower, hard_upper, previous, groups, steps,
+                                True)
             if found is None:
                 return None
-        command, body_slack, acceleration_slack = found
+        acceleration_slack = found[1]
+        steps = steps + np.where(acceleration_slack > MARGIN, acceleration_slack + MARGIN, 0.0)
+        found = self._solve(program, hard_lower, hard_upper, previous, groups, steps, False)
+        if found is None:
+            return None
+        command, body_slack = found
         relaxations = held + self._apply(program, hard_lower, hard_upper, previous, limits,
                                          time_step, groups, joints, body_slack,
-                                         acceleration_slack)
+                                         acceleration_slack, steps)
         return command, relaxations
 
-    def _solve(self, program, hard_lower, hard_upper, previous, limits, time_step, groups):
-        """The relaxation QP over ``[dq, body slack, acceleration slack]``; ``None`` when
-        it has no solution."""
+    def _solve(self, program, hard_lower, hard_upper, previous, groups, steps,
+               acceleration_first: bool):
+        """One stage of the relaxation QP, over the command and slack variables; its
+        command and slack, or ``None`` when it has no solution.
+
+        ``acceleration_first``: the acceleration limits (``steps`` [rad/s or m/s] around
+        ``previous``) get slack, the body rows are all but free; the slack of the
+        acceleration limits is returned. Otherwise the acceleration limits (``steps``
+        widened by the first stage's slack) hold and the body rows get slack, which is
+        returned.
+        """
+        from ..control.solvers.base import QuadraticProgram   # the controller imports this
+        from ..control.solvers.proxqp import ProxqpSolver
+
         n = program.g.shape[0]
         every_row = np.arange(program.l.shape[0])
         body_rows = np.concatenate([every_row[group.rows] for group in groups
                                     if group.relaxable] or [np.zeros(0, dtype=int)])
         hard_rows = np.setdiff1d(every_row, body_rows)
-        accelerated = limits.accelerated
-        m_b, m_a = len(body_rows), len(accelerated)
+        accelerated = np.flatnonzero(np.isfinite(steps))
+        m_b = len(body_rows)
+        m_a = len(accelerated) if acceleration_first else 0
         size = n + m_b + m_a
-        hessian = np.diag(np.concatenate((np.full(n, COMMAND_WEIGHT), np.full(m_b, BODY_WEIGHT),
-                                          np.full(m_a, ACCELERATION_WEIGHT))))
+        weights = (FREE_WEIGHT, 1.0) if acceleration_first else (1.0, 1.0)
+        hessian = np.diag(np.concatenate((np.full(n, COMMAND_WEIGHT), np.full(m_b, weights[0]),
+                                          np.full(m_a, weights[1]))))
         gradient = np.zeros(size)
         gradient[:n] = -COMMAND_WEIGHT * previous
         rows = len(hard_rows) + 2 * m_b + 2 * m_a
@@ -170,28 +191,36 @@ class Relaxer:
             C[k, n + j], C[k + 1, n + j] = 1.0, -1.0
             low[k], high[k + 1] = program.l[row], program.u[row]
             k += 2
-        step = limits.max_acceleration[accelerated] * time_step
-        for j, column in enumerate(accelerated):
-            C[k, column] = C[k + 1, column] = 1.0
-            C[k, n + m_b + j], C[k + 1, n + m_b + j] = 1.0, -1.0
-            low[k], high[k + 1] = previous[column] - step[j], previous[column] + step[j]
-            k += 2
-        keep = np.isfinite(low) | np.isfinite(high)
         lower = np.concatenate((hard_lower, np.zeros(m_b + m_a)))
         upper = np.concatenate((hard_upper, np.full(m_b + m_a, np.inf)))
+        if acceleration_first:
+            for j, column in enumerate(accelerated):
+                C[k, column] = C[k + 1, column] = 1.0
+                C[k, n + m_b + j], C[k + 1, n + m_b + j] = 1.0, -1.0
+                low[k] = previous[column] - steps[column]
+                high[k + 1] = previous[column] + steps[column]
+                k += 2
+        else:
+            np.maximum(lower[:n], previous - steps, out=lower[:n])
+            np.minimum(upper[:n], previous + steps, out=upper[:n])
+        keep = np.isfinite(low) | np.isfinite(high)
         qp = QuadraticProgram(hessian, gradient, np.zeros((0, size)), np.zeros(0), C[keep],
                               low[keep], high[keep], lower, upper)
         solution = ProxqpSolver(eps_abs=RELAXATION_TOLERANCE, max_iter=self.max_iter).solve(qp)
         if not solution.found or not np.all(np.isfinite(solution.x)):
             return None
         x = solution.x
-        return (np.clip(x[:n], hard_lower, hard_upper), np.maximum(x[n:n + m_b], 0.0),
-                np.maximum(x[n + m_b:], 0.0))
+        if acceleration_first:
+            slack = np.zeros(n)
+            slack[accelerated] = np.maximum(x[n + m_b:], 0.0)
+            return x[:n], slack
+        return np.clip(x[:n], lower[:n], upper[:n]), np.maximum(x[n:], 0.0)
 
     @staticmethod
     def _apply(program, hard_lower, hard_upper, previous, limits, time_step, groups, joints,
-               body_slack, acceleration_slack) -> list[Relaxation]:
-        """Widen the program's bounds by the slack found; the relaxations made."""
+               body_slack, acceleration_slack, steps) -> list[Relaxation]:
+        """Widen the program's bounds by the slack found (``steps`` [rad/s or m/s]: the
+        acceleration limits over a period, widened); the relaxations made."""
         relaxations = []
         n_in = program.l.shape[0]
         j = 0
@@ -208,19 +237,13 @@ class Relaxer:
             if relaxed.size:
                 relaxations.append(Relaxation(group.label, tuple(int(r) for r in relaxed),
                                               float(slack.max()), group.unit))
-        accelerated = limits.accelerated
-        step = np.full(len(previous), np.inf)
-        step[accelerated] = (limits.max_acceleration[accelerated] * time_step
-                             + np.where(acceleration_slack > MARGIN,
-                                        acceleration_slack + MARGIN, 0.0))
-        np.maximum(hard_lower, previous - step, out=program.lower)
-        np.minimum(hard_upper, previous + step, out=program.upper)
-        relaxed = accelerated[acceleration_slack > MARGIN]
+        np.maximum(hard_lower, previous - steps, out=program.lower)
+        np.minimum(hard_upper, previous + steps, out=program.upper)
+        relaxed = np.flatnonzero(acceleration_slack > MARGIN)
         excess = acceleration_slack / time_step
         for owner in sorted({limits.owners[i] for i in relaxed}):
-            mine = [k for k, i in enumerate(accelerated)
-                    if i in relaxed and limits.owners[i] == owner]
-            relaxations.append(Relaxation(owner, tuple(joints[accelerated[k]] for k in mine),
+            mine = [i for i in relaxed if limits.owners[i] == owner]
+            relaxations.append(Relaxation(owner, tuple(joints[i] for i in mine),
                                           float(excess[mine].max()), "rad/s^2"))
         return relaxations
 

@@ -123,8 +123,7 @@ class JointKinematicConstraint(Constraint):
         """The constraint's bounds alone (the controller meets every enabled
         ``joint_kinematic`` constraint with the world's limits in one table instead)."""
         limits = JointLimits(self._min_position, self._max_position, self._max_velocity,
-                             self._max_acceleration, self._max_velocity,
-                             (self.label,) * len(self.box_columns))
+                             self._max_acceleration, (self.label,) * len(self.box_columns))
         previous = state.previous_command[self.box_columns]
         box = JointBox(limits, state.time_step)
         lower, upper = np.zeros(len(previous)), np.zeros(len(previous))
