@@ -25,13 +25,24 @@ ratio of their medians (a shared machine's load changes between turns, seldom wi
 one); the time added, the pairs checked and the mean number within influence are
 printed.
 
-Usage: ``python bench/controller_cycle.py [--cycles N]``
+With ``--against REVISION``: this controller against the one of a git revision of this
+repository (imported beside it under another name, the two run in turns) on the
+weighted and strict problems: what a change to the controller costs per cycle.
+
+Usage: ``python bench/controller_cycle.py [--cycles N] [--against REVISION]``
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
+import io
+import subprocess
+import sys
+import tarfile
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -42,6 +53,7 @@ from robocop_dsl.control.constraints.body_velocity import _DIRECTIONS, INSCRIBED
 from robocop_dsl.safety.viable import BRAKING_SHARE
 from robocop_dsl.world import load_world
 
+REPO = Path(__file__).resolve().parent.parent
 GAIN = 5.0
 POSTURE_WEIGHT = 1e-2
 DAMPING = 1e-6
@@ -64,9 +76,9 @@ def targets(world, bodies, q):
     return [world.body_pose(body, q) * shift for body in bodies]
 
 
-def ours(case, world, q0, hierarchy):
-    controller = Controller(world, case["group"], case["time_step"], "proxqp", hierarchy,
-                            damping=DAMPING)
+def ours(case, world, q0, hierarchy, controller_class=Controller):
+    controller = controller_class(world, case["group"], case["time_step"], "proxqp",
+                                  hierarchy, damping=DAMPING)
     controller.add_constraint("joint_kinematic", "limits", case["group"],
                               max_acceleration=ACCELERATION)
     if case["body_velocity"]:
@@ -208,11 +220,11 @@ OVER = (np.array([0.6, 0.08, 0.78]), np.array([0.6, -0.08, 0.78]))
 and the forearms are within influence of the bench or of each other, at rest."""
 
 
-def with_collisions(case, world, q0, goals, avoid):
+def with_collisions(case, world, q0, goals, avoid, controller_class=Controller):
     """The strict problem of ``ours`` with body_pose targets ``goals``, with or without
     the collision constraints; returns the step and the collision constraints."""
-    controller = Controller(world, case["group"], case["time_step"], "proxqp", "strict",
-                            damping=DAMPING)
+    controller = controller_class(world, case["group"], case["time_step"], "proxqp",
+                                  "strict", damping=DAMPING)
     controller.add_constraint("joint_kinematic", "limits", case["group"],
                               max_acceleration=ACCELERATION)
     for body in case["bodies"]:
@@ -241,23 +253,28 @@ def settled(case, world, q0, goals, cycles):
     return q
 
 
-def collision_rows(cycles) -> None:
-    case = CASES["BAZAR"]
-    world = load_world(case["world"])
+def postures(case, world):
+    """The collision cases: ``(label, posture, body targets)`` of BAZAR, and its start."""
     q0 = world.initial_configuration()
     for group, positions in case["start"].items():
         q0[world.joint_group(group).q_indices] = positions
     down = pin.rpy.rpyToMatrix(0, np.pi, 0)
     over = [pin.SE3(down, p) for p in OVER]
     pressed = [pin.SE3(down, p) for p in PRESSED]
+    return q0, (("start posture", q0, targets(world, case["bodies"], q0)),
+                ("tools over the workbench, side by side",
+                 settled(case, world, q0, over, 2000), over),
+                ("tools pressed on the workbench", settled(case, world, q0, pressed, 2000),
+                 pressed))
+
+
+def collision_rows(cycles) -> None:
+    case = CASES["BAZAR"]
+    world = load_world(case["world"])
+    q0, cases = postures(case, world)
     print(f"\n{'BAZAR, strict':<40}{'median us':>10}{'p99 us':>9}{'vs without':>11}"
           f"{'added us':>9}{'pairs':>7}{'near':>6}")
-    for label, q, goals in (
-            ("start posture", q0, targets(world, case["bodies"], q0)),
-            ("tools over the workbench, side by side", settled(case, world, q0, over, 2000),
-             over),
-            ("tools pressed on the workbench", settled(case, world, q0, pressed, 2000),
-             pressed)):
+    for label, q, goals in cases:
         without = with_collisions(case, world, q0, goals, False)[0]
         step, constraints = with_collisions(case, world, q0, goals, True)
         near = []
@@ -309,9 +326,50 @@ def measure(step, world, case, q0, cycles):
     return times[cycles // 10:]
 
 
+def against(revision: str, cycles: int) -> None:
+    """This controller against the one of git ``revision`` of this repository, imported
+    beside it under another name and run in turns with it (:func:`interleaved`) on the
+    weighted and strict problems; the ratio is the median over the turns of the ratio
+    of their medians."""
+    folder = Path(tempfile.mkdtemp())
+    archive = subprocess.run(["git", "archive", revision, "robocop_dsl", "robots"],
+                             cwd=REPO, capture_output=True, check=True).stdout
+    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+        tar.extractall(folder, filter="data")
+    (folder / "robocop_dsl").rename(folder / "robocop_against")
+    sys.path.insert(0, str(folder))
+    other_control = importlib.import_module("robocop_against.control")
+    other_world = importlib.import_module("robocop_against.world")
+    print(f"\n{'problem':<52}{'this us':>9}{revision[:10]:>12}{'this/other':>12}")
+    rows = []
+    for name, case in CASES.items():
+        worlds = (load_world(case["world"]), other_world.load_world(case["world"]))
+        q0 = worlds[0].initial_configuration()
+        for group, positions in case["start"].items():
+            q0[worlds[0].joint_group(group).q_indices] = positions
+        for hierarchy in ("weighted", "strict"):
+            rows.append((f"{name}, {hierarchy}", case, worlds[0], q0,
+                         (ours(case, worlds[0], q0, hierarchy),
+                          ours(case, worlds[1], q0, hierarchy, other_control.Controller))))
+    case = CASES["BAZAR"]
+    worlds = (load_world(case["world"]), other_world.load_world(case["world"]))
+    for label, q, goals in postures(case, worlds[0])[1]:
+        rows.append((f"BAZAR, collision avoidance, {label}", case, worlds[0], q,
+                     tuple(with_collisions(case, world, q, goals, True, controller)[0]
+                           for world, controller in zip(worlds, (Controller,
+                                                                 other_control.Controller)))))
+    for label, case, world, q, steps in rows:
+        this, other = interleaved(steps, world, case, q, cycles)
+        ratio = float(np.median(np.median(this, axis=1) / np.median(other, axis=1)))
+        print(f"{label:<52}{np.median(this) * 1e6:>9.1f}{np.median(other) * 1e6:>12.1f}"
+              f"{ratio:>11.2f}x")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cycles", type=int, default=3000)
+    parser.add_argument("--against", metavar="REVISION",
+                        help="also time this controller against a git revision's")
     args = parser.parse_args(argv)
     print(f"{'world':<7}{'implementation':<20}{'median us':>10}{'p99 us':>9}"
           f"{'vs floor':>10}{'Pink/this':>11}")
@@ -334,6 +392,8 @@ def main(argv=None) -> int:
             print(f"{name:<7}{label:<20}{medians[label] * 1e6:>10.1f}"
                   f"{np.percentile(t, 99) * 1e6:>9.1f}{ratio:>9.2f}x{pink:>11}")
     collision_rows(args.cycles)
+    if args.against:
+        against(args.against, args.cycles)
     return 0
 
 

@@ -167,10 +167,10 @@ class Relaxer:
         from ..control.solvers.proxqp import ProxqpSolver
 
         n = program.g.shape[0]
-        every_row = np.arange(program.l.shape[0])
-        body_rows = np.concatenate([every_row[group.rows] for group in groups
-                                    if group.relaxable] or [np.zeros(0, dtype=int)])
-        hard_rows = np.setdiff1d(every_row, body_rows)
+        relaxable = np.zeros(program.l.shape[0], dtype=bool)
+        for group in groups:
+            relaxable[group.rows] = group.relaxable
+        body_rows, hard_rows = np.flatnonzero(relaxable), np.flatnonzero(~relaxable)
         accelerated = np.flatnonzero(np.isfinite(steps))
         m_b = len(body_rows)
         m_a = len(accelerated) if acceleration_first else 0

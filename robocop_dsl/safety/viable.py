@@ -20,6 +20,8 @@ import numpy as np
 
 BRAKING_SHARE = 0.5
 """Share of the acceleration limit a viable bound plans its braking with."""
+SPEED_TOLERANCE = 1e-9
+"""A speed within this of its viable bound [rad/s or m/s] is at it, not above it."""
 HARD_BRAKING_SHARE = 0.8
 """Share of the acceleration limit a speed already above the viable bound brakes at
 (the rest is left to the distance's curvature and the other constraints)."""
@@ -29,13 +31,12 @@ def approach_speed(distance, acceleration, time_step: float):
     """The largest speed [rad/s or m/s] towards a limit ``distance`` away [rad or m]
     from which braking at ``acceleration`` [rad/s^2 or m/s^2] (already the share,
     ``inf`` for none) stops before it; negative (move back) past the limit."""
-    distance = np.asarray(distance, dtype=float)
-    reach = distance / time_step
-    with np.errstate(invalid="ignore"):
-        braking = np.sqrt(2.0 * acceleration * np.maximum(distance, 0.0)) - (
-            0.5 * time_step * acceleration)
-    braking = np.where(np.isfinite(braking), np.maximum(braking, 0.0), np.inf)
-    return np.minimum(reach, braking)
+    scalar = np.ndim(distance) == np.ndim(acceleration) == 0
+    distance, acceleration = _arrays(distance, acceleration)
+    unlimited = ~np.isfinite(acceleration)
+    bound = _approach(distance, np.where(unlimited, 0.0, acceleration), time_step)
+    bound[unlimited] = (distance / time_step)[unlimited]
+    return float(bound[0]) if scalar else bound
 
 
 def viable_speed(distance, speed, acceleration, time_step: float):
@@ -45,12 +46,12 @@ def viable_speed(distance, speed, acceleration, time_step: float):
     reach while moving fast) is only asked to brake at :data:`HARD_BRAKING_SHARE` of
     ``acceleration``, as long as that still stops before the limit; otherwise the
     share's bound stands, and the cycle relaxes the acceleration limit."""
-    bound = approach_speed(distance, acceleration * BRAKING_SHARE, time_step)
-    hard = acceleration * HARD_BRAKING_SHARE
-    full = approach_speed(distance, hard, time_step)
-    with np.errstate(invalid="ignore"):
-        braked = np.minimum(speed - hard * time_step, full)
-    return np.where(speed > bound, np.fmax(bound, braked), bound)
+    scalar = np.ndim(distance) == np.ndim(speed) == np.ndim(acceleration) == 0
+    distance, speed, acceleration = _arrays(distance, speed, acceleration)
+    unlimited = ~np.isfinite(acceleration)
+    bound = _viable(distance, speed, np.where(unlimited, 0.0, acceleration), time_step)
+    bound[unlimited] = (distance / time_step)[unlimited]
+    return float(bound[0]) if scalar else bound
 
 
 def distance_rate_bounds(gap: np.ndarray, rows: np.ndarray, rate: np.ndarray,
@@ -64,10 +65,42 @@ def distance_rate_bounds(gap: np.ndarray, rows: np.ndarray, rate: np.ndarray,
     ``-inf`` where no acceleration limit applies (the damper alone then bounds the
     approach)."""
     finite = np.isfinite(acceleration)
+    if finite.all():
+        capacity = np.abs(rows) @ acceleration
+        bound = _viable(np.maximum(gap, 0.0), np.negative(rate), capacity, time_step)
+        return np.negative(bound, out=bound)
     if not finite.any():
         return np.full(len(gap), -np.inf)
     capacity = np.abs(rows[:, finite]) @ acceleration[finite]
-    if not finite.all():
-        free = np.abs(rows[:, ~finite]).sum(axis=1) > 1e-12
-        capacity[free] = np.inf
+    capacity[np.abs(rows[:, ~finite]).sum(axis=1) > 1e-12] = np.inf
     return -viable_speed(np.maximum(gap, 0.0), -rate, capacity, time_step)
+
+
+def _arrays(*values) -> list[np.ndarray]:
+    """``values`` as float arrays of one shape, at least one-dimensional (copies)."""
+    return [np.array(value) for value in np.broadcast_arrays(
+        *(np.atleast_1d(np.asarray(value, dtype=float)) for value in values))]
+
+
+def _approach(distance: np.ndarray, acceleration: np.ndarray, time_step: float):
+    """:func:`approach_speed` of arrays, every acceleration finite (a new array)."""
+    braking = np.maximum(distance, 0.0)
+    braking *= 2.0 * acceleration
+    np.sqrt(braking, out=braking)
+    braking -= 0.5 * time_step * acceleration
+    np.maximum(braking, 0.0, out=braking)
+    return np.minimum(distance / time_step, braking, out=braking)
+
+
+def _viable(distance: np.ndarray, speed: np.ndarray, acceleration: np.ndarray,
+            time_step: float) -> np.ndarray:
+    """:func:`viable_speed` of arrays, every acceleration finite (a new array)."""
+    bound = _approach(distance, acceleration * BRAKING_SHARE, time_step)
+    fast = np.greater(speed, bound + SPEED_TOLERANCE)
+    if np.count_nonzero(fast):
+        fast = np.flatnonzero(fast)
+        hard = acceleration[fast] * HARD_BRAKING_SHARE
+        braked = np.minimum(speed[fast] - hard * time_step,
+                            _approach(distance[fast], hard, time_step))
+        bound[fast] = np.maximum(bound[fast], braked)
+    return bound
