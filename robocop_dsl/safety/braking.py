@@ -46,16 +46,18 @@ class BrakingProgram:
         """Whether the last :meth:`solve` spent the solver's iteration budget."""
 
     def solve(self) -> np.ndarray | None:
-        """The braking command [rad/s or m/s] (entries below :data:`AT_REST` made zero),
-        or ``None`` when the constraints have no common solution."""
-        solution = self.solver.solve(self.program)
+        """The braking command [rad/s or m/s] (entries below :data:`AT_REST` made zero
+        where the box holds zero), or ``None`` when the constraints have no common
+        solution."""
+        program = self.program
+        solution = self.solver.solve(program)
         self.exhausted = solution.exhausted
         x = solution.x
         if not solution.found or not np.all(np.isfinite(x)):
             return None
-        if not self.solver.guarantees_tolerance and self.program.violation(x) > 1e-6:
+        if not self.solver.guarantees_tolerance and program.violation(x) > 1e-6:
             return None
-        x[np.abs(x) < AT_REST] = 0.0
+        x[(np.abs(x) < AT_REST) & (program.lower <= 0.0) & (program.upper >= 0.0)] = 0.0
         return x
 
 
