@@ -393,31 +393,30 @@ class Controller:
         """``(command, level results, relaxations, exhausted)`` of a cycle whose bounds are
         written: the hierarchy's answer. When it has none, the relaxation QP
         (:mod:`robocop_dsl.safety.relaxation`) tells whether the hard set has a common
-        command: if not, the hierarchy's answer under the smallest relaxation; if so,
-        the solver spent its budget on a hard cycle, and the braking QP answers. While
-        the cycles before were relaxed, the relaxation QP comes first (the hard set
-        likely has no common command still). ``command`` is ``None`` only when nothing,
-        not even holding still, meets the constraints."""
+        command: if not, the hierarchy's answer under the smallest relaxation; if so (or
+        if the hierarchy still finds none), the solver did not find the answer within
+        its budget (``exhausted``), and the braking QP answers. While the cycles before
+        were relaxed, the relaxation QP comes first (the hard set likely has no common
+        command still). ``command`` is ``None`` only when nothing, not even holding
+        still, meets the constraints."""
         hierarchy = plan.hierarchy
-        exhausted = False
-        if not (self._relaxing
-                or plan.rows and np.count_nonzero(np.greater(hierarchy.l, hierarchy.u))):
+        tried = not (self._relaxing or plan.rows
+                     and np.count_nonzero(np.greater(hierarchy.l, hierarchy.u)))
+        if tried:
             command, levels, self.problems = hierarchy.solve(objectives)
             if command is not None:
                 return command, levels, [], False
-            exhausted = hierarchy.exhausted
         relaxed = self._relax(plan)
         if relaxed is None:
             return None, (), [], False
         fallback, relaxations = relaxed
         self._relaxing = bool(relaxations)
-        if exhausted and not relaxations:
-            command = plan.braking.solve()
-            return (fallback if command is None else command), (), [], True
-        command, levels, self.problems = hierarchy.solve(objectives)
-        if command is None:
-            return fallback, (), relaxations, hierarchy.exhausted
-        return command, levels, relaxations, False
+        if relaxations or not tried:
+            command, levels, self.problems = hierarchy.solve(objectives)
+            if command is not None:
+                return command, levels, relaxations, False
+        command = plan.braking.solve()
+        return (fallback if command is None else command), (), relaxations, True
 
     def _braking_answer(self, plan: _Plan):
         """``(command, relaxations)`` of the braking QP over the written bounds."""

@@ -123,9 +123,6 @@ class Hierarchy:
         self.problems = [level.program for level in self._levels]
         """The QP of each level, overwritten by every cycle."""
         self._not_run = [(False, "not run")] * len(self._levels)
-        self.exhausted = False
-        """Whether the last :meth:`solve` found no command because the first level's
-        solver spent its iteration budget."""
 
     def task_rows(self, index: int) -> slice:
         """The rows of task ``index`` in :attr:`jacobian`, :attr:`velocity`, :attr:`weight`."""
@@ -148,7 +145,6 @@ class Hierarchy:
             solved; ``command`` is ``None`` when the first level has no solution.
         """
         command = None
-        self.exhausted = False
         statuses: list[tuple[bool, str]] = []
         for level in self._levels:
             program = level.program
@@ -171,7 +167,6 @@ class Hierarchy:
                 solved = program.violation(solution.x) <= FEASIBILITY_TOLERANCE
             statuses.append((solved, solution.status))
             if not solved:
-                self.exhausted = command is None and solution.exhausted
                 break
             command = solution.x
         problems = self.problems[:len(statuses)]

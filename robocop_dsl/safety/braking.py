@@ -42,8 +42,6 @@ class BrakingProgram:
                                         hierarchy.C, hierarchy.l, hierarchy.u, hierarchy.lower,
                                         hierarchy.upper)
         self.solver = solver
-        self.exhausted = False
-        """Whether the last :meth:`solve` spent the solver's iteration budget."""
 
     def solve(self) -> np.ndarray | None:
         """The braking command [rad/s or m/s] (entries below :data:`AT_REST` made zero
@@ -51,7 +49,6 @@ class BrakingProgram:
         solution."""
         program = self.program
         solution = self.solver.solve(program)
-        self.exhausted = solution.exhausted
         x = solution.x
         if not solution.found or not np.all(np.isfinite(x)):
             return None

@@ -34,7 +34,8 @@ class RunGuard:
         self.report.count(result)
         if result.status == "solver_budget":
             self.notify("solver_budget", {
-                "message": "the QP solver spent its iteration budget: braking QP's command",
+                "message": "the QP solver found no answer within its iteration budget: "
+                           "braking QP's command",
                 "state": state})
         for relaxation in result.relaxations:
             self.notify("constraint_relaxed", {**relaxation.as_event(), "state": state})

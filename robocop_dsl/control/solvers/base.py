@@ -75,14 +75,12 @@ class QPSolution:
         x: The solution (zeros when not found).
         iterations: Solver iterations, when the backend reports them.
         status: The backend's status, as text.
-        exhausted: Whether the solver stopped at its iteration limit.
     """
 
     found: bool
     x: np.ndarray
     iterations: int = 0
     status: str = field(default="")
-    exhausted: bool = False
 
 
 class QPSolver(ABC):

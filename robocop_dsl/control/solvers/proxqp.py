@@ -8,7 +8,6 @@ import proxsuite
 from .base import QPSolution, QPSolver, QuadraticProgram
 
 _SOLVED = proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED
-_EXHAUSTED = proxsuite.proxqp.QPSolverOutput.PROXQP_MAX_ITER_REACHED
 _WARM = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
 _COLD = proxsuite.proxqp.InitialGuess.NO_INITIAL_GUESS
 _DENSE = proxsuite.proxqp.dense
@@ -36,8 +35,8 @@ class ProxqpSolver(QPSolver):
         eps_abs: Absolute tolerance on primal and dual residuals (1e-10: near a
             singularity, where the Hessian's smallest eigenvalue is the damping, the
             command is then within 1e-4 rad/s of DAQP's).
-        max_iter: Iteration limit (reaching it is a failure, ``exhausted``): the
-            solver's budget, which bounds a cycle's compute time.
+        max_iter: Iteration limit (reaching it is a failure): the solver's budget,
+            which bounds a cycle's compute time.
         eps_infeasible: Threshold of ProxQP's primal and dual infeasibility
             certificates; ProxQP's default 1e-4 flags feasible problems of this scale
             as infeasible, and near-singular strictly convex ones (a damping of 1e-6
@@ -109,8 +108,7 @@ class ProxqpSolver(QPSolver):
         if info.status == _SOLVED:
             return QPSolution(True, results.x.copy(), info.iter, "solved")
         self.reset()
-        return QPSolution(False, np.zeros(n), info.iter, info.status.name,
-                          info.status == _EXHAUSTED)
+        return QPSolution(False, np.zeros(n), info.iter, info.status.name)
 
 
 def _arguments(problem: QuadraticProgram) -> tuple:
