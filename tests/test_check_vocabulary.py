@@ -128,6 +128,17 @@ def test_a_task_enabled_from_the_start_is_read_without_warning():
                    ).diagnostics == ()
 
 
+def test_limits_that_leave_a_joint_no_position_within_its_urdf_range():
+    """A declared range that does not meet a joint's URDF range: the first such joint,
+    its value and the URDF's limit."""
+    result = checked(variant((LIMITS, LIMITS[:-1] + "    min_position = 1 rad\n"
+                                                   "    max_position = 1 rad\n}")))
+    [diagnostic] = result.diagnostics
+    assert diagnostic.code == "inverted-limits"
+    assert diagnostic.message == ("'min_position' is above the URDF's upper limit at joint "
+                                  "16 of 'bazar_upper_joints': 1 > 0.54 rad")
+
+
 def test_limits_inverted_by_an_action():
     """An action is judged against the declared limit it leaves, or the one assigned in
     the same block; a block that assigns both in order passes."""
@@ -144,7 +155,7 @@ def test_limits_inverted_by_an_action():
     both = checked(variant(declared, ("        enable left_tool\n",
                                       "        enable left_tool\n"
                                       "        limits.max_position = 2 rad\n"
-                                      "        limits.min_position = 1.5 rad\n")))
+                                      "        limits.min_position = 0.5 rad\n")))
     assert both.diagnostics == ()
     in_transition = checked(variant(("when arms.reached -> approach",
                                      "when arms.reached -> approach "
