@@ -79,10 +79,15 @@ class FakeRobot:
         self.server.close()
 
 
+STATE_TIMEOUT = "5s"
+"""Long enough for a robot thread starved by a loaded machine: the checks under test
+fault at once, whatever the timeout."""
+
+
 def mission_on(tmp_path, port: int, controller_options: str = "",
                handled: bool = False) -> Path:
     """missions/panda_reach.mission on the Panda world, its driver the loopback one on
-    ``port``; ``controller_options`` are added to its qp_controller's. Unless
+    ``port`` (:data:`STATE_TIMEOUT`); ``controller_options`` are added to its qp_controller's. Unless
     ``handled``, without its ``when controller.failed -> failed`` clause: a fault is
     then the run's outcome."""
     world = (REPO / "robots/panda/panda_on_table.yaml").read_text()
@@ -90,7 +95,7 @@ def mission_on(tmp_path, port: int, controller_options: str = "",
     controller = "hierarchy: strict}"
     assert driver in world and controller in world
     world = world.replace(driver, "type: loopback\n    options: {joint_group: panda_arm, "
-                                  f"port: {port}}}")
+                                  f"port: {port}, state_timeout: {STATE_TIMEOUT}}}")
     world = world.replace(controller, f"hierarchy: strict{controller_options}}}")
     (tmp_path / "panda_loopback.yaml").write_text(world)
     mission = (REPO / "missions/panda_reach.mission").read_text()
