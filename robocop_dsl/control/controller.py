@@ -335,10 +335,10 @@ class Controller:
             for index, task in enumerate(tasks):
                 by_priority.setdefault(task.priority, []).append(index)
             levels = sorted(by_priority.items())
-        limits = joint_limits(self.state.group,
-                              [c for c in constraints if c.joint_limits() is not None])
+        tables = [c for c in constraints if c.joint_limits() is not None]
+        limits = joint_limits(self.state.group, tables)
         self.state.max_acceleration = limits.max_acceleration
-        constraints = [c for c in constraints if c.joint_limits() is None]
+        constraints = [c for c in constraints if c not in tables]
         everything = np.arange(self.state.dofs)
         boxes = [c for c in constraints if c.box_columns is not None]
         first = next((c for c in boxes if np.array_equal(c.box_columns, everything)), None)

@@ -64,8 +64,9 @@ class ControlResult:
         relaxations: The constraints relaxed this cycle
             (:class:`~robocop_dsl.safety.Relaxation`).
         status: ``solved``, ``relaxed`` (a command under relaxed constraints),
-            ``solver_budget`` (the braking QP's command: the solver spent its iteration
-            budget) or ``no_solution`` (non-finite input: a zero command).
+            ``solver_budget`` (the braking QP's command: the solver found none within its
+            iteration budget) or ``no_solution`` (non-finite input, or position limits
+            that leave a joint no position: a zero command).
     """
 
     velocity: np.ndarray

@@ -30,8 +30,7 @@ import numpy as np
 
 from ..diagnostics import RobocopError
 from ..drivers import AsyncWorldWriter
-from ..safety.robot_state import RobotStateCheck
-from ..safety import stop_cycles
+from ..safety import RobotStateCheck, stop_cycles
 from .runner import Runner
 from .views import TaskViews, task_views
 

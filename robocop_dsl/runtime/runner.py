@@ -28,8 +28,7 @@ import traceback
 import numpy as np
 
 from ..diagnostics import RobocopError
-from ..safety.guard import RunGuard
-from ..safety.robot_state import RobotStateCheck
+from ..safety import RobotStateCheck, RunGuard
 from .cycle_times import CycleTimes
 from .faults import error_text, fault_place, origin
 from .program import Program

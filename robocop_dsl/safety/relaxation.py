@@ -222,17 +222,16 @@ class Relaxer:
         """Widen the program's bounds by the slack found (``steps`` [rad/s or m/s]: the
         acceleration limits over a period, widened); the relaxations made."""
         relaxations = []
-        n_in = program.l.shape[0]
         j = 0
         for group in groups:
             if not group.relaxable:
                 continue
-            indices = np.arange(n_in)[group.rows]
-            slack = body_slack[j:j + len(indices)]
-            j += len(indices)
+            low, high = program.l[group.rows], program.u[group.rows]
+            slack = body_slack[j:j + len(low)]
+            j += len(low)
             widen = np.where(slack > MARGIN, slack + MARGIN, 0.0)
-            program.l[indices] -= widen
-            program.u[indices] += widen
+            low -= widen
+            high += widen
             relaxed = np.flatnonzero(slack > MARGIN)
             if relaxed.size:
                 relaxations.append(Relaxation(group.label, tuple(int(r) for r in relaxed),
@@ -258,16 +257,15 @@ def _hold_what_is_broken(program, hard_lower, hard_upper, groups, joints) -> lis
         np.maximum(hard_upper, 0.0, out=hard_upper)
         relaxed.append(Relaxation("joint position limits",
                                   tuple(joints[i] for i in np.flatnonzero(back)), 0.0, "held"))
-    n_in = program.l.shape[0]
     for group in groups:
         if group.relaxable:
             continue
-        indices = np.arange(n_in)[group.rows]
-        low, high = program.l[indices], program.u[indices]
+        low, high = program.l[group.rows], program.u[group.rows]
         pushing = (low > 0.0) | (high < 0.0)
         if pushing.any():
-            program.l[indices] = np.minimum(low, 0.0)
-            program.u[indices] = np.maximum(high, 0.0)
+            amount = float(np.max(np.maximum(low, -high)[pushing]))
+            np.minimum(low, 0.0, out=low)
+            np.maximum(high, 0.0, out=high)
             relaxed.append(Relaxation(group.label, tuple(int(r) for r in np.flatnonzero(pushing)),
-                                      float(np.max(np.maximum(low, -high)[pushing])), "held"))
+                                      amount, "held"))
     return relaxed

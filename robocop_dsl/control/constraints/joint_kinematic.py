@@ -27,9 +27,9 @@ class JointKinematicConstraint(Constraint):
     value given here is lowered to it. A continuous joint has no position limit by
     default; its position is its angle in (-pi, pi]. A joint outside its position
     range may not go further out, and is driven back as fast as its acceleration and
-    velocity limits allow. When the acceleration
-    bound conflicts with the others (e.g. after the state jumped), the velocity closest
-    to ``prev`` within the others is taken and the controller reports the relaxation.
+    velocity limits allow. When the acceleration bound conflicts with the others (e.g.
+    after the state jumped), the velocity closest to ``prev`` within the others is taken
+    and the controller reports the relaxation.
 
     Args:
         name: The constraint's name.
@@ -48,7 +48,6 @@ class JointKinematicConstraint(Constraint):
                  max_position=None, max_velocity=None, max_acceleration=None):
         super().__init__(name, state)
         self.group, self.box_columns = state.group_columns(group)
-        self.state.revision += 1
         self._jacobian = np.eye(state.dofs)[self.box_columns]
         group_ = self.group
         self._velocity_bound = self._vector("max_velocity", group_.max_velocity)
@@ -147,4 +146,3 @@ class JointKinematicConstraint(Constraint):
 
     def describe(self) -> str:
         return f"group={self.group.name!r}, "
-
