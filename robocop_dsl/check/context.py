@@ -54,6 +54,16 @@ class WorldNames:
     def body_names(self) -> list[str]:
         return list(self.world.body_names()) if self.world else []
 
+    @property
+    def simulated(self) -> bool:
+        """Whether a physics driver (``mujoco``) runs the world."""
+        return self.world is not None and any(
+            p.type == "mujoco" for p in self.world.processors.values())
+
+    def free_bodies(self) -> list[str]:
+        """The bodies physics moves (the roots of ``free: true`` models)."""
+        return list(self.world.free_bodies()) if self.world else []
+
     def has_body(self, name: str) -> bool:
         return self.world is None or self.world.has_body(name)
 

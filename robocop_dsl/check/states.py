@@ -203,13 +203,27 @@ def check_action(ctx: CheckContext, action: ast.Action) -> tuple[float, ...] | N
     elif isinstance(action, ast.Assign):
         return _check_assign(ctx, action)
     elif isinstance(action, ast.Attach):
-        if all([check_body(ctx, action.body), check_body(ctx, action.parent)]) \
-                and action.body.text == action.parent.text:
-            ctx.error("wrong-value", f"'{action.body.text}' cannot be attached to itself",
-                      action.span)
+        if all([check_body(ctx, action.body), check_body(ctx, action.parent)]):
+            if action.body.text == action.parent.text:
+                ctx.error("wrong-value", f"'{action.body.text}' cannot be attached to itself",
+                          action.span)
+            else:
+                _check_free(ctx, action.body, "attach")
     elif isinstance(action, ast.Detach):
-        check_body(ctx, action.body)
+        if check_body(ctx, action.body):
+            _check_free(ctx, action.body, "detach")
     return None
+
+
+def _check_free(ctx: CheckContext, body, verb: str) -> None:
+    """In a world run by physics, only a free body can be welded and released."""
+    world = ctx.world
+    if world.known and world.simulated and body.text not in world.free_bodies():
+        free = world.free_bodies()
+        ctx.error("not-free", f"cannot {verb} '{body.text}' in physics: it is not a free "
+                  "body", body.span,
+                  f"give its model 'free: true' in the world file (free bodies: "
+                  f"{', '.join(free) or 'none'})")
 
 
 def _check_assign(ctx: CheckContext, action: ast.Assign) -> tuple[float, ...] | None:

@@ -27,6 +27,8 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--format", choices=FORMATS, default="text",
                         help="text (default), json, or github workflow commands")
     parser.add_argument("--strict", action="store_true", help="treat warnings as errors")
+    parser.add_argument("--world", metavar="WORLD.yaml",
+                        help="check against this world instead of the one each mission names")
     parser.set_defaults(command=run)
 
 
@@ -65,6 +67,19 @@ def _collector_paused():
             gc.enable()
 
 
+def _world(path: str | None):
+    """The world of ``--world``, ``None`` without it, or its diagnostics."""
+    if path is None:
+        return None
+    from ..diagnostics import DiagnosticError
+    from ..world import load_world
+
+    try:
+        return load_world(path)
+    except DiagnosticError as error:
+        return list(error.diagnostics)
+
+
 def run(args) -> int:
     """Check every file; exit 1 when any has an error."""
     from ..compile import WorldCache, check_file
@@ -78,8 +93,12 @@ def run(args) -> int:
     cache = WorldCache()
     reports = []
     with _collector_paused():
-        for name in args.files:
-            result = check_file(name, cache=cache, compiled=False)
+        world = _world(args.world)
+        if isinstance(world, list):
+            reports.append((args.world, world))
+            world = None
+        for name in args.files if not reports else ():
+            result = check_file(name, world=world, cache=cache, compiled=False)
             reports.append((name, _strict(result.diagnostics, args.strict)))
     if args.format == "json":
         print(json.dumps([{"file": name, "ok": not any(d.is_error for d in found),

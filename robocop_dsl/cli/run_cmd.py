@@ -47,6 +47,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--solver", help="QP solver (overrides the world's controller)")
     parser.add_argument("--hierarchy", choices=("strict", "weighted"),
                         help="task hierarchy (overrides the world's controller)")
+    parser.add_argument("--world", metavar="WORLD.yaml",
+                        help="run on this world instead of the one the mission names (a "
+                             "variant: the same names, another driver, physics...)")
     parser.add_argument("--log", metavar="DIR", help="write events and time series to DIR")
     parser.add_argument("--campaign", metavar="CAMPAIGN.yaml",
                         help="run one job of this campaign: its world variant, controller "
@@ -76,6 +79,10 @@ def _run(args, signals) -> int:
 
     if (args.campaign is None) != (args.job is None):
         print("robocop-mission run: error: --campaign and --job go together", file=sys.stderr)
+        return 2
+    if args.campaign is not None and args.world is not None:
+        print("robocop-mission run: error: a campaign job runs on its own world variant; "
+              "--world goes without --campaign", file=sys.stderr)
         return 2
     watched = bool(args.viewer or args.viewer_url)
     if args.realtime is None:
@@ -218,7 +225,12 @@ def _prepare(args) -> tuple:
                                      solver=args.solver, hierarchy=args.hierarchy)
         duration = args.duration if args.duration is not None else job.duration
         return prepared.mission, prepared.runner, duration
-    mission = load_mission(args.file)
+    world = None
+    if args.world is not None:
+        from ..world import load_world
+
+        world = load_world(args.world)
+    mission = load_mission(args.file, world=world)
     runner = mission.runner(solver=args.solver, hierarchy=args.hierarchy,
                             realtime=args.realtime)
     return mission, runner, args.duration

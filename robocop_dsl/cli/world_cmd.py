@@ -21,6 +21,9 @@ def add_parser(subparsers) -> None:
                     "bazar/sophia.yaml) and print its composed tree.")
     parser.add_argument("file", help="world YAML file")
     parser.add_argument("--format", choices=("text", "json"), default="text")
+    parser.add_argument("--mjcf", metavar="OUT.xml",
+                        help="write the world's MuJoCo model (what the mujoco driver "
+                             "simulates) to OUT.xml instead of printing the world")
     parser.set_defaults(command=run)
 
 
@@ -30,6 +33,8 @@ def run(args) -> int:
 
     try:
         world = load_world(args.file)
+        if args.mjcf is not None:
+            return _write_mjcf(world, args.mjcf)
     except DiagnosticError as error:
         print(render_all(error.diagnostics), file=sys.stderr)
         return 1
@@ -37,6 +42,27 @@ def run(args) -> int:
         print(json.dumps(describe(world), indent=2))
     else:
         print(render_text(world))
+    return 0
+
+
+def _write_mjcf(world: World, path: str) -> int:
+    """Write the MuJoCo model, with the physics step and servo of the world's mujoco
+    driver when it has one (MuJoCo's defaults otherwise)."""
+    from ..physics.model import mjcf
+    from ..physics.servo import Servo
+    from ..world.processors import option_default
+
+    drivers = [p for p in world.processors.values() if p.type == "mujoco"]
+    options = drivers[0].options if drivers else {}
+    step = options.get("time_step", option_default("mujoco", "time_step"))
+    servo = Servo.from_options(world, options) if drivers else None
+    try:
+        with open(path, "w", encoding="utf-8") as out:
+            out.write(mjcf(world, step, servo))
+    except OSError as error:
+        print(f"robocop-mission world: error: cannot write {path}: {error}", file=sys.stderr)
+        return 1
+    print(f"{path}: the MuJoCo model of {world.path.name}")
     return 0
 
 

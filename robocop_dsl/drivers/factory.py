@@ -13,7 +13,10 @@ Options (durations in seconds or as ``5ms``; a rate as ``1kHz`` or a number of h
   (5s);
 - ``simulated``: ``rate`` or ``period`` of its thread (1kHz), ``command_timeout`` (50ms);
 - ``loopback``: ``port``, ``launch`` (start the simulator process, default false), and
-  for a launched simulator ``rate``/``period`` and ``command_timeout``.
+  for a launched simulator ``rate``/``period`` and ``command_timeout``;
+- ``mujoco``: ``time_step`` of the physics (1ms, dividing the control period) and the
+  joint servo's ``gains: {kp, kv}`` (:mod:`robocop_dsl.physics.servo`); it takes none
+  of the timeouts (the physics steps in the control loop's thread).
 """
 
 from __future__ import annotations
@@ -86,6 +89,8 @@ def create_driver(world, name: str | None = None, realtime: bool = True,
             f"{', '.join(unknown)}; valid: {', '.join(sorted(DRIVER_OPTIONS[processor.type]))}")
     group = _joint_group(world, processor)
     kind = processor.type
+    if kind == "mujoco":
+        return _mujoco(world, processor, group, time_step, initial)
     common = {"initial": initial, "state_timeout": _seconds(options, kind, "state_timeout"),
               "connect_timeout": _seconds(options, kind, "connect_timeout")}
     period = period_from_options(options, option_default(kind, "period"))
@@ -101,6 +106,26 @@ def create_driver(world, name: str | None = None, realtime: bool = True,
     from ..runtime.driver import SimulatedDriver
 
     return SimulatedDriver(world, group, time_step, initial)
+
+
+def _mujoco(world, processor, group: str, period: float | None, initial):
+    from ..physics.driver import MujocoDriver
+    from ..physics.servo import Servo
+
+    if period is None:
+        raise DriverConfigError("the mujoco driver needs the control period (time_step)")
+    options = processor.options
+    step = options.get("time_step", option_default("mujoco", "time_step"))
+    steps = period / step
+    if abs(steps - round(steps)) > 1e-9 * steps or round(steps) < 1:
+        raise DriverConfigError(f"driver '{processor.name}': the physics step "
+                                f"{step * 1e3:g} ms does not divide the control period "
+                                f"{period * 1e3:g} ms")
+    try:
+        servo = Servo.from_options(world, {**options, "joint_group": group})
+    except ValueError as error:
+        raise DriverConfigError(f"driver '{processor.name}': {error}") from None
+    return MujocoDriver(world, group, period, step, servo, initial)
 
 
 def _joint_group(world, processor) -> str:

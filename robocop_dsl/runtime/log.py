@@ -8,7 +8,8 @@ rad; NaN while the task is disabled; a pose task's parts also as
 ``error.TASK.position`` [m] and ``error.TASK.orientation`` [rad]; each error field's
 ``unit`` metadata says ``m``, ``rad`` or ``m+rad``), ``reference.TASK.I`` (the task's interpolated
 reference, component I; poses as x, y, z [m] then a rotation vector [rad]),
-``cycle_time`` and ``compute_time`` [s]. Read it with :func:`read_timeseries`,
+``pose.BODY.x|y|z`` [m] and ``pose.BODY.qx|qy|qz|qw`` (the world pose of each free
+body, as physics put it), ``cycle_time`` and ``compute_time`` [s]. Read it with :func:`read_timeseries`,
 ``pandas.read_parquet`` or ``pyarrow.parquet.read_table(...)``.
 
 The time series is streamed: every second of mission time a writer thread turns the
@@ -70,6 +71,7 @@ class RunLogger(Observer):
         self._writer: threading.Thread | None = None
         self._failure: BaseException | None = None
         self._schema = None
+        self._bodies: list = []
 
     def on_start(self, runner) -> None:
         """Size the row groups to the run's period and give every task of the run its
@@ -77,6 +79,7 @@ class RunLogger(Observer):
         self._rows = max(1, round(GROUP_DURATION / runner.time_step))
         self._tasks = {task.name: _reference_width(task) for task in runner.tasks()}
         self._units = {task.name: _error_unit(task) for task in runner.tasks()}
+        self._bodies = list(getattr(runner, "free_bodies", ()))
 
     def on_cycle(self, record: CycleRecord) -> None:
         self._batch.append(record)
@@ -116,7 +119,8 @@ class RunLogger(Observer):
         if self._tasks is None:
             self._tasks = {v.name: len(reference_vector(v.reference))
                            for r in records for v in r.tasks}
-        self._schema = pa.schema(_fields(self.joint_names, self._tasks, self._units))
+        self._schema = pa.schema(_fields(self.joint_names, self._tasks, self._units,
+                                         self._bodies))
         shutil.rmtree(self.folder / PARTS, ignore_errors=True)
         (self.folder / PARTS).mkdir()
         (self.folder / TIMESERIES).unlink(missing_ok=True)
@@ -173,6 +177,10 @@ class RunLogger(Observer):
             references = _stack(flat, size)
             for component in range(size):
                 columns[f"reference.{task}.{component}"] = references[:, component]
+        for body in self._bodies:
+            poses = np.array([pose_vector(r.body_poses[body]) for r in records]).reshape(-1, 7)
+            for index, component in enumerate(POSE_COMPONENTS):
+                columns[f"pose.{body}.{component}"] = poses[:, index]
         columns["cycle_time"] = np.array([r.cycle_time for r in records])
         columns["compute_time"] = np.array([r.compute_time for r in records])
         return pa.table(columns, schema=self._schema)
@@ -199,7 +207,18 @@ class RunLogger(Observer):
         return path
 
 
-def _fields(joint_names: list, tasks: dict, units: dict) -> list:
+POSE_COMPONENTS = ("x", "y", "z", "qx", "qy", "qz", "qw")
+"""The logged components of a free body's pose: position [m], unit quaternion."""
+
+
+def pose_vector(pose: np.ndarray) -> np.ndarray:
+    """A 4x4 pose as position [m] then quaternion (x, y, z, w)."""
+    import pinocchio as pin
+
+    return pin.SE3ToXYZQUAT(pin.SE3(np.asarray(pose, dtype=float)))
+
+
+def _fields(joint_names: list, tasks: dict, units: dict, bodies: list = ()) -> list:
     """The time series' columns, in order, as pyarrow fields; error fields carry their
     ``unit`` (``units``: task -> unit) as metadata."""
     import pyarrow as pa
@@ -217,6 +236,8 @@ def _fields(joint_names: list, tasks: dict, units: dict) -> list:
             fields += [error(f"error.{task}.position", "m"),
                        error(f"error.{task}.orientation", "rad")]
         fields += [pa.field(f"reference.{task}.{i}", pa.float64()) for i in range(size)]
+    fields += [pa.field(f"pose.{body}.{component}", pa.float64())
+               for body in bodies for component in POSE_COMPONENTS]
     fields += [pa.field("cycle_time", pa.float64()), pa.field("compute_time", pa.float64())]
     return fields
 

@@ -88,6 +88,9 @@ class Runner:
         self._result: RunResult | None = None
         self._broken: set = set()
         self._attached: dict = {}
+        self.free_bodies = {body: self.kinematics.frame_id(body)
+                            for body in controller.world.free_bodies()}
+        """The world's free bodies (frame ids): their poses are in every cycle's record."""
         self._transitions: list = []
         self._times = CycleTimes()
         self._qp_failures = 0
@@ -235,15 +238,23 @@ class Runner:
         self._notify_event("log", {"message": text, "state": self.chart.running or self.state})
 
     def attach(self, body: str, parent: str) -> None:
-        """Make ``body`` move rigidly with ``parent`` from now on."""
-        self.kinematics.attach(body, parent)
-        self._attached[body] = self.kinematics.frame_id(body)
+        """Make ``body`` move rigidly with ``parent`` from now on: in physics, a weld
+        between them (``body`` must be free); else its frame moves to ``parent``."""
+        if hasattr(self.driver, "attach"):
+            self.driver.attach(body, parent)
+        else:
+            self.kinematics.attach(body, parent)
+            self._attached[body] = self.kinematics.frame_id(body)
         self._notify_event("action", {"action": "attach", "body": body, "to": parent})
 
     def detach(self, body: str) -> None:
-        """Leave ``body`` fixed in the world where it is."""
-        self.kinematics.detach(body)
-        self._attached.pop(body, None)
+        """Release ``body``: in physics its weld is released and it falls unless
+        something holds it; else it stays fixed in the world where it is."""
+        if hasattr(self.driver, "detach"):
+            self.driver.detach(body)
+        else:
+            self.kinematics.detach(body)
+            self._attached.pop(body, None)
         self._notify_event("action", {"action": "detach", "body": body})
 
     # ---- one cycle ------------------------------------------------------------------
@@ -346,8 +357,8 @@ class Runner:
         steps, self._steps = self._steps, ()
         if not self.observers:
             return
-        bodies = {b: self.kinematics.pose(f).homogeneous.copy()
-                  for b, f in self._attached.items()}
+        bodies = {b: self.kinematics.pose(f).homogeneous
+                  for moved in (self.free_bodies, self._attached) for b, f in moved.items()}
         record = CycleRecord(self.cycle, self.time, self.state, self.q.copy(),
                              self.controller.joint_group.positions(self.q),
                              np.array(command, dtype=float), solved,

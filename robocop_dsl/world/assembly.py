@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..diagnostics import DiagnosticError, did_you_mean
-from .description import ROOT, JointSpec, ModelEntry, WorldDescription
+from .description import ROOT, JointSpec, ModelEntry, Physics, WorldDescription
 from .placement import compose, rotation
 from .srdf import disabled_pairs
 from .urdf import DOFS, JointInfo, UrdfModel, read_urdf
@@ -44,6 +44,11 @@ class Assembly:
     initial: dict = field(default_factory=dict)
     allowed_collisions: set = field(default_factory=set)
     """Pairs of bodies (frozensets) never checked for collisions: SRDFs' and the world's."""
+    free: dict = field(default_factory=dict)
+    """The root body of each ``free: true`` model -> its :class:`ModelEntry`."""
+    links: dict = field(default_factory=dict)
+    """Each body of a URDF -> ``(URDF path, line of its <link>)``."""
+    physics: Physics = field(default_factory=Physics)
 
 
 def assemble(description: WorldDescription) -> Assembly:
@@ -55,7 +60,7 @@ def assemble(description: WorldDescription) -> Assembly:
     diagnostics: list = list(description.diagnostics)
     robot = ET.Element("robot", name="world")
     ET.SubElement(robot, "link", name=ROOT)
-    result = Assembly(urdf="")
+    result = Assembly(urdf="", physics=description.physics)
     result.bodies[ROOT] = BodyInfo(ROOT, None, None, str(description.path))
     attachments = []
     for index, entry in enumerate(description.models):
@@ -77,6 +82,9 @@ def assemble(description: WorldDescription) -> Assembly:
         for link in urdf.links:
             if link not in result.bodies:
                 result.bodies[link] = BodyInfo(link, None, None, f"{urdf.path}")
+            result.links[link] = (urdf.path, urdf.link_lines.get(link, 1))
+        if entry.free:
+            result.free[urdf.root] = entry
         robot.extend(urdf.elements)
         attachments.append((entry, urdf, where))
         if entry.srdf is not None:

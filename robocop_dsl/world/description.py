@@ -19,10 +19,16 @@ ROOT = "world"
 JOINT_TYPES = ("fixed", "revolute", "continuous", "prismatic", "floating", "planar")
 _DURATION = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(us|ms|s)\s*$")
 _SECONDS = {"us": 1e-6, "ms": 1e-3, "s": 1.0}
-_MODEL_KEYS = {"include", "path", "namespace", "joint", "srdf"}
+_MODEL_KEYS = {"include", "path", "namespace", "joint", "srdf", "free"}
 _JOINT_KEYS = {"parent", "type", "axis", "position", "limits", "name"}
 _LIMIT_KEYS = {"lower", "upper", "velocity", "effort"}
-_TOP_KEYS = {"models", "joint_groups", "initial", "processors", "allowed_collisions"}
+_TOP_KEYS = {"models", "joint_groups", "initial", "processors", "allowed_collisions",
+             "physics"}
+_PHYSICS_KEYS = {"gravity", "friction"}
+DEFAULT_GRAVITY = (0.0, 0.0, -9.81)
+"""[m/s^2], in the world frame."""
+DEFAULT_FRICTION = (1.0, 0.005, 0.0001)
+"""Sliding [-], torsional [m] and rolling [m] friction coefficients (MuJoCo's order)."""
 _PROCESSOR_KEYS = {"type", "options"}
 
 
@@ -54,13 +60,24 @@ class JointSpec:
 @dataclass
 class ModelEntry:
     """One ``path:`` model: a URDF to add with a name prefix and a joint, and the SRDF
-    whose ``disable_collisions`` pairs are left out of collision checks."""
+    whose ``disable_collisions`` pairs are left out of collision checks. A ``free``
+    model hangs on a floating joint whose pose a physics driver measures."""
 
     urdf: Path
     prefix: str
     joint: JointSpec
     at: Located
     srdf: Path | None = None
+    free: bool = False
+
+
+@dataclass
+class Physics:
+    """The world's ``physics:``: gravity [m/s^2] and the contacts' friction
+    coefficients (sliding [-], torsional [m], rolling [m])."""
+
+    gravity: tuple = DEFAULT_GRAVITY
+    friction: tuple = DEFAULT_FRICTION
 
 
 @dataclass
@@ -93,6 +110,7 @@ class WorldDescription:
     processors: dict = field(default_factory=dict)
     allowed_collisions: list = field(default_factory=list)
     """``(body, body, Located)``: pairs never checked for collisions."""
+    physics: Physics = field(default_factory=Physics)
     diagnostics: list = field(default_factory=list)
 
 
@@ -143,6 +161,7 @@ class _Reader:
         self._initial(source, data.get("initial"), data, prefix)
         self._processors(source, data.get("processors"), data, top)
         self._allowed_collisions(source, data.get("allowed_collisions"), data, prefix)
+        self._physics(source, data.get("physics"), data, top)
 
     def _unknown_key(self, source, mapping: YamlMap, key, allowed) -> None:
         self.out.diagnostics.append(source.error(
@@ -212,6 +231,7 @@ class _Reader:
                 "urdf-not-found", f"cannot find URDF '{name}'", _looked_in(Path(source.path).parent)))
             return
         joint = self._joint(source, entry.get("joint"), entry, outer)
+        free = self._free(source, entry, joint)
         srdf = None
         if "srdf" in entry:
             srdf = paths.resolve(str(entry["srdf"]), Path(source.path).parent)
@@ -219,7 +239,25 @@ class _Reader:
                 self.out.diagnostics.append(source.error(
                     "urdf-not-found", f"cannot find SRDF '{entry['srdf']}'",
                     entry.value_span("srdf"), _looked_in(Path(source.path).parent)))
-        self.out.models.append(ModelEntry(urdf, inner, joint, at, srdf))
+        self.out.models.append(ModelEntry(urdf, inner, joint, at, srdf, free))
+
+    def _free(self, source, entry: YamlMap, joint: JointSpec) -> bool:
+        """Whether the model is ``free: true``; its joint becomes a floating one."""
+        if "free" not in entry:
+            return False
+        if not isinstance(entry["free"], bool):
+            self.out.diagnostics.append(source.error(
+                "invalid-entry", "'free' must be true or false", entry.value_span("free")))
+            return False
+        if not entry["free"]:
+            return False
+        if joint.type != "fixed":
+            self.out.diagnostics.append(source.error(
+                "invalid-entry", f"a free model cannot have a {joint.type} joint",
+                entry.value_span("free"), "remove 'type:' from its joint: a free model "
+                "floats, its 'position:' is where it starts"))
+        joint.type = "floating"
+        return True
 
     def _joint(self, source, data, entry: YamlMap, outer: str) -> JointSpec:
         spec = JointSpec(parent_at=Located(source, entry.value_span("path")))
@@ -328,6 +366,30 @@ class _Reader:
                     Located(source, entry.value_span("type")),
                     Located(source, entry.span("options") if "options" in entry else at.span))
 
+    def _physics(self, source, physics, data, top: bool) -> None:
+        if physics is None or not self._expect(source, physics, YamlMap, data, "physics"):
+            return
+        for key in physics:
+            if key not in _PHYSICS_KEYS:
+                self._unknown_key(source, physics, key, _PHYSICS_KEYS)
+        if not top and self.out.physics != Physics():
+            return
+        gravity = self.out.physics.gravity
+        if "gravity" in physics:
+            gravity = self._vector(source, physics, "gravity", physics["gravity"], 3)
+        friction = self.out.physics.friction
+        if "friction" in physics:
+            value = physics["friction"]
+            value = [value] if isinstance(value, (int, float)) else value
+            friction = self._vector(source, physics, "friction", value, None)
+            if not 1 <= len(friction) <= 3 or min(friction, default=0) < 0:
+                self.out.diagnostics.append(source.error(
+                    "invalid-entry", "'friction' must be 1 to 3 numbers >= 0",
+                    physics.span("friction"), "sliding [-], torsional [m], rolling [m], "
+                    "for example [1.0, 0.005, 0.0001]"))
+                friction = DEFAULT_FRICTION
+            friction = friction + DEFAULT_FRICTION[len(friction):]
+        self.out.physics = Physics(gravity, friction)
 
     def _allowed_collisions(self, source, pairs, data, prefix) -> None:
         if pairs is None or not self._expect(source, pairs, YamlList, data,

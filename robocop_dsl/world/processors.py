@@ -5,7 +5,8 @@ Kinds: ``duration`` [s] > 0 (``5ms``, ``250us``, ``0.5s`` or a number of seconds
 ``rate`` [Hz] > 0 (``1kHz``, ``500Hz`` or a number of hertz), ``group`` (a joint group
 or joint of the world), ``solver`` (an installed QP solver), ``choice``, ``flag``
 (true/false), ``port`` (a TCP port), ``driver`` (a driver processor of the world),
-``positive`` and ``non_negative`` (finite numbers > 0 and >= 0).
+``positive`` and ``non_negative`` (finite numbers > 0 and >= 0), ``gains`` (a
+joint servo's ``{kp, kv}``, each a number > 0 or one per joint).
 
 RoboCoP's own option names are accepted where they mean what this package does, and
 refused with the supported equivalent where they do not (see :data:`ROBOCOP_OPTIONS`).
@@ -102,12 +103,15 @@ PROCESSOR_TYPES = {
     "simulated": ProcessorType(dict(_DRIVER)),
     "loopback": ProcessorType({**_DRIVER, "port": Option("port"),
                                "launch": Option("flag", False)}),
+    "mujoco": ProcessorType({"joint_group": Option("group", required=True),
+                             "time_step": Option("duration", 0.001),
+                             "gains": Option("gains", {"kp": 2000.0, "kv": 100.0})}),
 }
 """Every processor type and its options. A ``qp_controller``'s ``state_tolerance``
 [rad] is how far past its URDF position limits the driver may report a joint of its
 group before the run faults (a prismatic joint: a tenth of it, in metres)."""
 
-DRIVER_TYPES = ("simulated", "loopback")
+DRIVER_TYPES = ("simulated", "loopback", "mujoco")
 _RATE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(Hz|kHz|MHz)\s*$")
 _HERTZ = {"Hz": 1.0, "kHz": 1e3, "MHz": 1e6}
 
@@ -127,10 +131,12 @@ class _Refused(Exception):
 
 @dataclass
 class Names:
-    """The joint groups (name -> joints) and joints of an assembled world."""
+    """The joint groups (name -> joints) and joints of an assembled world, and which
+    joints move on their own (have dofs: not fixed, not mimic)."""
 
     groups: dict
     joints: set
+    moving: set = field(default_factory=set)
 
     def joints_of(self, name) -> frozenset | None:
         """The joints of group or joint ``name``; ``None`` when it is neither."""
@@ -154,6 +160,7 @@ def check_processors(entries: dict, names: Names | None) -> tuple[dict, list]:
             built[name] = processor
     if names is not None:
         _link_drivers(built, entries, names, out)
+        _physics_rules(built, entries, names, out)
     return built, out
 
 
@@ -241,6 +248,55 @@ def _link_drivers(built: dict, entries: dict, names: Names, out: list) -> None:
                     if names.joints_of(p.options.get("joint_group")) == group]
         driver = _driver(entries[name], processor, drivers, on_group, out)
         built[name] = replace(processor, driver=driver)
+
+
+def _physics_rules(built: dict, entries: dict, names: Names, out: list) -> None:
+    """A mujoco driver steps its physics a whole number of times per control period,
+    and drives only joints a controller drives."""
+    controllers = [p for p in built.values() if p.type == "qp_controller"]
+    for name, processor in built.items():
+        if processor.type != "mujoco":
+            continue
+        entry, options = entries[name], processor.options
+        source = entry.type_at.source
+        driven = names.joints_of(options.get("joint_group")) or frozenset()
+        commanded = frozenset().union(*(names.joints_of(c.options.get("joint_group"))
+                                        or frozenset() for c in controllers))
+        stray = sorted(driven - commanded)
+        if stray and "joint_group" in options:
+            out.append(source.error(
+                "wrong-option", f"driver '{name}' drives joints no controller commands: "
+                f"{', '.join(stray)}", entry.options.value_span("joint_group"),
+                "drive the joint group of a qp_controller (the physics servos the "
+                "other joints to their initial positions)"))
+        moving = [j for j in names.groups.get(options.get("joint_group"), (options.get(
+            "joint_group"),)) if j in names.moving]
+        for key, value in options.get("gains", {}).items():
+            if isinstance(value, list) and len(value) != len(moving):
+                out.append(source.error(
+                    "wrong-option", f"gains: '{key}' has {len(value)} values, the joint "
+                    f"group '{options['joint_group']}' has {len(moving)} joints",
+                    entry.options["gains"].value_span(key),
+                    f"give one value for every joint, or one for all: {', '.join(moving)}"))
+        step = options.get("time_step", option_default("mujoco", "time_step"))
+        for controller in controllers:
+            period = controller.options.get("time_step")
+            if period is None or controller.driver not in (None, name):
+                continue
+            steps = period / step
+            if abs(steps - round(steps)) > 1e-9 * max(steps, 1) or round(steps) < 1:
+                at = (entry.options.value_span("time_step") if "time_step" in entry.options
+                      else entry.options_at.span)
+                out.append(source.error(
+                    "wrong-option", f"the physics step {step * 1e3:g} ms of '{name}' does not "
+                    f"divide the period {period * 1e3:g} ms of '{controller.name}'", at,
+                    f"give a step that divides it, for example time_step: "
+                    f"{_divisor(period, step) * 1e3:g}ms"))
+
+
+def _divisor(period: float, step: float) -> float:
+    """The largest step [s] no longer than ``step`` that divides ``period``."""
+    return period / max(1, math.ceil(period / step - 1e-9))
 
 
 def _driver(entry, processor: Processor, drivers: dict, on_group: list, out: list):
@@ -351,6 +407,21 @@ def _non_negative(value, option, names) -> float:
     return float(value)
 
 
+def _gains(value, option, names) -> dict:
+    if not hasattr(value, "items") or set(value) - {"kp", "kv"}:
+        raise _Refused(f"must be a mapping with kp and kv, not {_yaml(value)}",
+                       "for example gains: {kp: 2000, kv: 100} (one value, or one per joint)")
+    gains = dict(option.default)
+    for key, given in value.items():
+        values = list(given) if isinstance(given, list) else [given]
+        if not values or not all(_number(v) and math.isfinite(v) and v > 0 for v in values):
+            raise _Refused(f"'{key}' must be a number > 0 or a list of them, not "
+                           f"{_yaml(given)}")
+        gains[str(key)] = [float(v) for v in values] if isinstance(given, list) \
+            else float(given)
+    return gains
+
+
 def _yaml(value) -> str:
     """``value`` as written in YAML."""
     if isinstance(value, bool):
@@ -360,5 +431,5 @@ def _yaml(value) -> str:
 
 _CONVERT = {"duration": _duration, "rate": _rate, "group": _group, "solver": _solver,
             "choice": _choice, "flag": _flag, "port": _port, "driver": _driver_name,
-            "positive": _positive, "non_negative": _non_negative}
+            "positive": _positive, "non_negative": _non_negative, "gains": _gains}
 _EXAMPLE = {"joint_group": "NAME", "time_step": "5ms"}

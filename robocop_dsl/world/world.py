@@ -88,6 +88,25 @@ class World:
         SRDF ``disable_collisions`` and the world's ``allowed_collisions:``."""
         return self._assembly.allowed_collisions
 
+    @property
+    def physics(self):
+        """The world's ``physics:`` (:class:`~.description.Physics`)."""
+        return self._assembly.physics
+
+    def free_bodies(self) -> list:
+        """The root bodies of the ``free: true`` models, each on a floating joint."""
+        return list(self._assembly.free)
+
+    def free_model(self, body: str):
+        """The ``free: true`` model entry whose root is ``body``
+        (:class:`~.description.ModelEntry`)."""
+        return self._assembly.free[body]
+
+    def link_source(self, body: str) -> tuple:
+        """``(URDF path, line)`` of the ``<link>`` of ``body``; ``None`` for a body no
+        URDF wrote (``world``)."""
+        return self._assembly.links.get(body)
+
     def controller_names(self) -> list:
         return [p.name for p in self.processors.values() if p.type == "qp_controller"]
 
@@ -233,7 +252,8 @@ def _assemble(description: WorldDescription) -> tuple:
     except DiagnosticError as error:
         _, problems = check_processors(description.processors, None)
         raise DiagnosticError(error.diagnostics + problems) from None
-    names = Names({n: g.joints for n, g in assembly.groups.items()}, set(assembly.joints))
+    names = Names({n: g.joints for n, g in assembly.groups.items()}, set(assembly.joints),
+                  {j for j, info in assembly.joints.items() if info.dofs})
     processors, problems = check_processors(description.processors, names)
     if problems:
         raise DiagnosticError(problems)
