@@ -118,7 +118,26 @@ class _Checker:
                     self.body(world, body, span, suffix, move.where.source)
             for noise in self.spec.postures:
                 self.joints(world, noise, suffix)
+            self.physics(world, suffix)
         self.solvers()
+
+    def physics(self, world, suffix: str) -> None:
+        """Physics can vary only where a mujoco driver simulates it; masses only of
+        free bodies."""
+        noise = self.spec.physics
+        if not noise:
+            return
+        if not any(p.type == "mujoco" for p in world.processors.values()):
+            self.diagnostics.append(noise.where.error(
+                "no-physics", f"'physics' varies, but {world.path.name} simulates no physics", "run the missions on a world with a mujoco driver (a variant)"))
+            return
+        free = world.free_bodies()
+        for (body, _), span in zip(noise.masses, noise.mass_spans):
+            if body not in free:
+                self.diagnostics.append(noise.where.source.error(
+                    "body-not-free", f"cannot vary the mass of '{body}'{suffix}: it is not a "
+                    "free body", span, did_you_mean(body, free)
+                    or f"free bodies: {', '.join(free) or 'none'}"))
 
     def body(self, world, body: str, span, suffix: str, source) -> None:
         if not world.has_body(body):

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .reader import read_campaign
-from .spec import SETTINGS, CampaignSpec
+from .spec import SETTINGS, CampaignSpec, PhysicsNoise
 
 
 @dataclass(frozen=True)
@@ -36,6 +36,7 @@ class Job:
         time_budget: Wall-time budget [s], or ``None``.
         bodies: The :class:`~.spec.BodyMove` entries.
         postures: The :class:`~.spec.PostureNoise` entries.
+        physics: The :class:`~.spec.PhysicsNoise`.
     """
 
     index: int
@@ -50,6 +51,7 @@ class Job:
     time_budget: float | None
     bodies: tuple
     postures: tuple
+    physics: PhysicsNoise = PhysicsNoise()
 
     def setting(self, name: str):
         """The value of a controller setting, or ``None`` when the world's applies."""
@@ -101,6 +103,7 @@ def expand(spec: CampaignSpec, pairings) -> list:
     jobs = []
     bodies = tuple(dataclasses.replace(m, where=None, body_spans=()) for m in spec.bodies)
     postures = tuple(dataclasses.replace(p, where=None) for p in spec.postures)
+    physics = dataclasses.replace(spec.physics, where=None, mass_spans=())
     for pairing in pairings:
         entry = pairing.entry
         for settings in setting_combinations(spec):
@@ -112,5 +115,5 @@ def expand(spec: CampaignSpec, pairings) -> list:
                     duration=entry.duration if entry.duration is not None else spec.duration,
                     time_budget=(entry.time_budget if entry.time_budget is not None
                                  else spec.time_budget),
-                    bodies=bodies, postures=postures))
+                    bodies=bodies, postures=postures, physics=physics))
     return jobs

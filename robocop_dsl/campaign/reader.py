@@ -12,13 +12,14 @@ from pathlib import Path
 from ..diagnostics import DiagnosticError, SourceFile, Span, did_you_mean, sort_key
 from ..world.description import to_seconds
 from ..world.yaml_source import YamlList, YamlMap, parse_yaml
-from .spec import SETTINGS, BodyMove, CampaignSpec, MissionEntry, Normal, PostureNoise, \
-    Uniform, VariantEntry, Where
+from .spec import SETTINGS, BodyMove, CampaignSpec, MissionEntry, Normal, PhysicsNoise, \
+    PostureNoise, Uniform, VariantEntry, Where
 
 TOP_KEYS = ("campaign", "description", "missions", "variants", "settings", "samples",
             "seed", "duration", "time_budget", "vary")
 MISSION_KEYS = ("path", "duration", "time_budget")
-VARY_KEYS = ("bodies", "initial_posture")
+VARY_KEYS = ("bodies", "initial_posture", "physics")
+PHYSICS_KEYS = ("friction", "mass")
 BODY_KEYS = ("move", "uniform", "normal")
 POSTURE_KEYS = ("joints", "uniform", "normal")
 HIERARCHIES = ("strict", "weighted")
@@ -89,7 +90,7 @@ class _Reader:
             time_budget=self.duration(data, "time_budget"),
             bodies=tuple(self.entries(vary, "bodies", self.body_move)),
             postures=tuple(self.entries(vary, "initial_posture", self.posture)),
-            settings_where=settings_where)
+            physics=self.physics(vary), settings_where=settings_where)
 
     def string(self, mapping: YamlMap, key: str, default: str) -> str:
         if key not in mapping:
@@ -233,6 +234,42 @@ class _Reader:
         return distribution and PostureNoise(joints, distribution,
                                              self.where(item.value_span("joints")))
 
+    def physics(self, vary: YamlMap) -> PhysicsNoise:
+        """``vary: physics: {friction: DISTRIBUTION, mass: {BODY: DISTRIBUTION}}``."""
+        physics = self.mapping(vary, "physics")
+        if physics is None:
+            return PhysicsNoise()
+        self.keys(physics, PHYSICS_KEYS)
+        friction = None
+        if "friction" in physics:
+            friction = self.scalar(physics, "friction")
+        masses, spans = [], []
+        for body, value in (self.mapping(physics, "mass") or YamlMap()).items():
+            distribution = self.scalar(physics["mass"], body)
+            if distribution is not None:
+                masses.append((str(body), distribution))
+                spans.append(physics["mass"].span(body))
+        return PhysicsNoise(friction, tuple(masses), self.where(vary.span("physics")),
+                            tuple(spans))
+
+    def scalar(self, mapping: YamlMap, key):
+        """A one-number distribution written ``KEY: {uniform: ...}`` or ``{normal: ...}``,
+        every value > 0 where a uniform draws."""
+        value = mapping[key]
+        if not isinstance(value, YamlMap):
+            self.error("wrong-value", f"'{key}' must be a mapping with 'uniform:' or "
+                       "'normal:'", mapping.value_span(key), "e.g. '{uniform: {low: 0.4, "
+                       "high: 1.2}}'")
+            return None
+        self.keys(value, ("uniform", "normal"))
+        distribution = self.distribution(value, self.where(mapping.span(key)), size=1,
+                                         absolute=True)
+        if isinstance(distribution, Uniform) and min(distribution.low) <= 0:
+            self.error("wrong-value", f"'{key}' must stay > 0: 'low' is "
+                       f"{min(distribution.low):g}", value.span("uniform"))
+            return None
+        return distribution
+
     def distribution(self, item: YamlMap, where: Where, size, absolute: bool):
         kinds = [k for k in ("uniform", "normal") if k in item]
         if len(kinds) != 1:
@@ -270,8 +307,8 @@ class _Reader:
                        mapping.value_span(key))
             return None
         if size is not None and len(items) not in (1, size):
-            self.error("wrong-value", f"'{key}' needs {size} values (x, y, z in metres)",
-                       mapping.value_span(key))
+            self.error("wrong-value", f"'{key}' needs {size} values (x, y, z in metres)"
+                       if size == 3 else f"'{key}' is one number", mapping.value_span(key))
             return None
         if size is not None and len(items) == 1:
             items = items * size

@@ -1,5 +1,5 @@
-"""Drawing the random conditions of one sample: where the moved bodies are and the
-posture the robot starts from.
+"""Drawing the random conditions of one sample: where the moved bodies are, the
+posture the robot starts from and the physics (friction, free bodies' masses).
 
 The draws depend on the campaign's seed, the sample number and the entry's place in
 the file only: sample ``k`` sees the same conditions on every mission, world variant
@@ -14,7 +14,10 @@ import numpy as np
 
 from .spec import Normal, Uniform
 
-_BODIES, _POSTURES = 0, 1
+_BODIES, _POSTURES, _PHYSICS = 0, 1, 2
+SMALLEST = 1e-6
+"""A drawn friction coefficient [-] or mass [kg] is at least this (a normal may draw
+below zero)."""
 
 
 @dataclass(frozen=True)
@@ -22,15 +25,18 @@ class Conditions:
     """What a sample changes in a run.
 
     Attributes:
-        body_placements: Body name -> 4x4 pose in the world [m].
-        initial: Start configuration (size ``model.nq``), or ``None`` for the world's.
-        parameters: Column name -> value, for the results table: ``BODY.x|y|z`` [m] and
-            ``initial.JOINT`` [rad or m].
+        body_placements: Body name -> 4x4 pose in the world [m], for bodies fixed to it.
+        initial: Start configuration (size ``model.nq``), or ``None`` for the world's: a
+            free body moved starts there.
+        physics: ``friction`` [-] and ``mass`` (free body -> kg) for a physics driver.
+        parameters: Column name -> value, for the results table: ``BODY.x|y|z`` [m],
+            ``initial.JOINT`` [rad or m], ``physics.friction`` [-], ``BODY.mass`` [kg].
     """
 
     body_placements: dict = field(default_factory=dict)
     initial: np.ndarray | None = None
     parameters: dict = field(default_factory=dict)
+    physics: dict = field(default_factory=dict)
 
 
 def stream(seed: int, sample: int, kind: int, entry: int) -> np.random.Generator:
@@ -54,6 +60,8 @@ def draw_conditions(job, world) -> Conditions:
     """The conditions of ``job``'s sample on ``world`` (the worker's copy of the variant)."""
     placements, parameters = {}, {}
     start = world.initial_configuration()
+    initial = start.copy()
+    free = set(world.free_bodies())
     for entry, move in enumerate(job.bodies):
         rng = stream(job.seed, job.sample, _BODIES, entry)
         poses = {body: world.body_pose(body, start).homogeneous for body in move.bodies}
@@ -62,12 +70,12 @@ def draw_conditions(job, world) -> Conditions:
         for body, pose in poses.items():
             moved = pose.copy()
             moved[:3, 3] = position + pose[:3, 3] - reference
-            placements[body] = moved
+            if body in free:
+                _place_free(world, initial, body, moved)
+            else:
+                placements[body] = moved
             parameters.update({f"{body}.{axis}": float(value)
                                for axis, value in zip("xyz", moved[:3, 3])})
-    if not job.postures:
-        return Conditions(placements, None, parameters)
-    initial = start.copy()
     for entry, noise in enumerate(job.postures):
         rng = stream(job.seed, job.sample, _POSTURES, entry)
         group = world.joint_group(noise.joints)
@@ -76,4 +84,43 @@ def draw_conditions(job, world) -> Conditions:
         initial[indices] = np.clip(initial[indices] + offset, group.lower, group.upper)
         parameters.update({f"initial.{joint}": float(initial[index])
                            for joint, index in zip(group.joints, indices)})
-    return Conditions(placements, initial, parameters)
+    physics = _draw_physics(job, world, parameters)
+    changed = bool(job.postures) or any(b in free for move in job.bodies for b in move.bodies)
+    return Conditions(placements, initial if changed else None, parameters, physics)
+
+
+def _place_free(world, q: np.ndarray, body: str, pose: np.ndarray) -> None:
+    """Make free ``body`` start at the world pose ``pose`` (4x4) in configuration ``q``."""
+    import pinocchio as pin
+
+    model = world.model
+    joint = model.frames[world.body_frame_id(body)].parentJoint
+    start = model.joints[joint].idx_q
+    local = model.jointPlacements[joint].actInv(pin.SE3(pose))
+    q[start:start + 7] = pin.SE3ToXYZQUAT(local)
+
+
+def _draw_physics(job, world, parameters: dict) -> dict:
+    """The sample's friction and masses (each entry its own stream)."""
+    noise = getattr(job, "physics", None)
+    if not noise:
+        return {}
+    physics: dict = {}
+    if noise.friction is not None:
+        rng = stream(job.seed, job.sample, _PHYSICS, 0)
+        nominal = np.array([world.physics.friction[0]])
+        physics["friction"] = max(float(draw(noise.friction, rng, 1, nominal)[0]), SMALLEST)
+        parameters["physics.friction"] = physics["friction"]
+    for entry, (body, distribution) in enumerate(noise.masses, start=1):
+        rng = stream(job.seed, job.sample, _PHYSICS, entry)
+        nominal = np.array([free_mass(world, body)])
+        mass = max(float(draw(distribution, rng, 1, nominal)[0]), SMALLEST)
+        physics.setdefault("mass", {})[body] = mass
+        parameters[f"{body}.mass"] = mass
+    return physics
+
+
+def free_mass(world, body: str) -> float:
+    """The mass [kg] physics gives free ``body`` (its URDF ``<inertial>``)."""
+    model = world.model
+    return float(model.inertias[model.frames[world.body_frame_id(body)].parentJoint].mass)

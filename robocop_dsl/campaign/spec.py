@@ -77,6 +77,22 @@ class PostureNoise:
 
 
 @dataclass(frozen=True)
+class PhysicsNoise:
+    """Physics drawn per sample: the sliding ``friction`` coefficient of every contact
+    [-] and the ``masses`` [kg] of free bodies, ``(body, distribution)`` pairs; each
+    a :class:`Uniform` or :class:`Normal` (a normal without mean is centred on the
+    world's value), or absent."""
+
+    friction: Uniform | Normal | None = None
+    masses: tuple = ()
+    where: Where | None = field(default=None, compare=False, repr=False)
+    mass_spans: tuple = field(default=(), compare=False, repr=False)
+
+    def __bool__(self) -> bool:
+        return self.friction is not None or bool(self.masses)
+
+
+@dataclass(frozen=True)
 class MissionEntry:
     """A mission file to run, with its own ``duration`` and ``time_budget`` [s] when
     they differ from the campaign's."""
@@ -117,6 +133,7 @@ class CampaignSpec:
     time_budget: float | None
     bodies: tuple
     postures: tuple
+    physics: PhysicsNoise = PhysicsNoise()
     settings_where: dict = field(default_factory=dict, compare=False, repr=False)
 
     @property

@@ -1,9 +1,11 @@
 """The end-of-sweep summary: success rate per mission and variant (and per controller
-setting when several were tried), then the jobs that did not succeed with their
-conditions and the command that reruns each one alone."""
+setting when several were tried) with its 95 % confidence interval, then the jobs
+that did not succeed with their conditions and the command that reruns each one
+alone."""
 
 from __future__ import annotations
 
+import math
 import os
 import shlex
 from collections import Counter
@@ -81,8 +83,10 @@ def _failure(console: Console, row: dict, varied: list, command: str) -> None:
 
 def _rates(rows: list, varied: list) -> Table:
     table = Table(title="success rate", show_edge=False)
-    for column in ("mission", "variant", *varied, "jobs", "success", "other outcomes"):
-        table.add_column(column, justify="right" if column in ("jobs", "success") else "left")
+    for column in ("mission", "variant", *varied, "jobs", "success", "95% interval",
+                   "other outcomes"):
+        table.add_column(column, justify="right" if column in ("jobs", "success",
+                                                               "95% interval") else "left")
     groups: dict = {}
     for row in rows:
         groups.setdefault(group_key(row, varied), Counter())[row["outcome"]] += 1
@@ -91,9 +95,23 @@ def _rates(rows: list, varied: list) -> Table:
         rate = counts["success"] / total
         colour = "green" if rate == 1 else "red" if rate < 0.5 else "yellow"
         others = ", ".join(f"{n} {o}" for o, n in sorted(counts.items()) if o != "success")
+        low, high = wilson_interval(counts["success"], total)
         table.add_row(*map(str, key), str(total),
-                      f"[{colour}]{counts['success']} ({rate:.0%})[/]", others or "-")
+                      f"[{colour}]{counts['success']} ({rate:.0%})[/]",
+                      f"{low:.0%} to {high:.0%}", others or "-")
     return table
+
+
+def wilson_interval(successes: int, total: int, z: float = 1.959964) -> tuple:
+    """The Wilson score interval of a success rate (95 % for the default ``z``): where
+    the true rate lies given ``successes`` out of ``total`` independent runs."""
+    if total == 0:
+        return 0.0, 1.0
+    rate = successes / total
+    centre = (rate + z * z / (2 * total)) / (1 + z * z / total)
+    spread = z * math.sqrt(rate * (1 - rate) / total + z * z / (4 * total * total)) \
+        / (1 + z * z / total)
+    return max(0.0, centre - spread), min(1.0, centre + spread)
 
 
 def _conditions(row: dict) -> str:
@@ -104,6 +122,10 @@ def _conditions(row: dict) -> str:
     noisy = sum(1 for k in row if k.startswith("initial.") and row[k] is not None)
     if noisy:
         text.append(f"start posture drawn for {noisy} joints")
+    if row.get("physics.friction") is not None:
+        text.append(f"friction {row['physics.friction']:.3f}")
+    text += [f"{k[:-len('.mass')]} {row[k]:.3f} kg" for k in row
+             if k.endswith(".mass") and row[k] is not None]
     return "; ".join(text) or "-"
 
 

@@ -74,7 +74,8 @@ def prepare(job, cache: WorkerCache = PROCESS_CACHE) -> PreparedRun:
     conditions = draw_conditions(job, world)
     runner = mission.runner(solver=job.setting("solver"), hierarchy=job.setting("hierarchy"),
                             time_step=job.setting("time_step"), initial=conditions.initial,
-                            body_placements=conditions.body_placements or None)
+                            body_placements=conditions.body_placements or None,
+                            physics=conditions.physics or None)
     return PreparedRun(mission, runner, conditions)
 
 

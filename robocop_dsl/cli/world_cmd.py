@@ -56,9 +56,10 @@ def _write_mjcf(world: World, path: str) -> int:
     options = drivers[0].options if drivers else {}
     step = options.get("time_step", option_default("mujoco", "time_step"))
     servo = Servo.from_options(world, options) if drivers else None
+    text = mjcf(world, step, servo)
     try:
         with open(path, "w", encoding="utf-8") as out:
-            out.write(mjcf(world, step, servo))
+            out.write(text)
     except OSError as error:
         print(f"robocop-mission world: error: cannot write {path}: {error}", file=sys.stderr)
         return 1

@@ -56,7 +56,7 @@ def driver_processor(world, name: str | None = None, controller: str | None = No
 
 def create_driver(world, name: str | None = None, realtime: bool = True,
                   time_step: float | None = None, initial=None,
-                  controller: str | None = None):
+                  controller: str | None = None, physics: dict | None = None):
     """Build the driver described by the world's processor ``name``.
 
     Args:
@@ -72,6 +72,8 @@ def create_driver(world, name: str | None = None, realtime: bool = True,
         initial: Initial configuration (nq); defaults to the world's ``initial:``.
         controller: The qp_controller processor whose driver to build (see
             :func:`driver_processor`).
+        physics: For ``mujoco``: ``friction`` [-] and ``mass`` ({free body: kg}) to
+            simulate instead of the world's.
 
     Returns:
         The driver, not yet connected. ``driver.realtime`` tells whether the control
@@ -90,7 +92,10 @@ def create_driver(world, name: str | None = None, realtime: bool = True,
     group = _joint_group(world, processor)
     kind = processor.type
     if kind == "mujoco":
-        return _mujoco(world, processor, group, time_step, initial)
+        return _mujoco(world, processor, group, time_step, initial, physics or {})
+    if physics:
+        raise DriverConfigError(f"driver '{processor.name}' ({kind}) simulates no physics: "
+                                "friction and masses need a mujoco driver")
     common = {"initial": initial, "state_timeout": _seconds(options, kind, "state_timeout"),
               "connect_timeout": _seconds(options, kind, "connect_timeout")}
     period = period_from_options(options, option_default(kind, "period"))
@@ -108,7 +113,7 @@ def create_driver(world, name: str | None = None, realtime: bool = True,
     return SimulatedDriver(world, group, time_step, initial)
 
 
-def _mujoco(world, processor, group: str, period: float | None, initial):
+def _mujoco(world, processor, group: str, period: float | None, initial, physics: dict):
     from ..physics.driver import MujocoDriver
     from ..physics.servo import Servo
 
@@ -125,7 +130,7 @@ def _mujoco(world, processor, group: str, period: float | None, initial):
         servo = Servo.from_options(world, {**options, "joint_group": group})
     except ValueError as error:
         raise DriverConfigError(f"driver '{processor.name}': {error}") from None
-    return MujocoDriver(world, group, period, step, servo, initial)
+    return MujocoDriver(world, group, period, step, servo, initial, physics)
 
 
 def _joint_group(world, processor) -> str:

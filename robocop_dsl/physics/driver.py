@@ -30,13 +30,17 @@ class MujocoDriver:
         time_step: The physics step [s].
         servo: The joint servo's gains (default gains when ``None``).
         initial: Initial configuration (nq); defaults to the world's ``initial:``.
+        physics: Changes to the world's physics: ``friction`` (the sliding coefficient
+            of every contact [-]) and ``mass`` ({free body: kg}; its inertia scales
+            with it).
     """
 
     realtime = False
     """Time advances one period per ``read()``: a loop may run faster than real time."""
 
     def __init__(self, world, joint_group: str, period: float, time_step: float,
-                 servo: Servo | None = None, initial: np.ndarray | None = None):
+                 servo: Servo | None = None, initial: np.ndarray | None = None,
+                 physics: dict | None = None):
         import mujoco
 
         self._mujoco = mujoco
@@ -49,6 +53,7 @@ class MujocoDriver:
         self.servo = servo or Servo.default(world)
         self.physics = physics_model(world, self.time_step, self.servo)
         self.model = self.physics.model
+        self._change(physics or {})
         self.data = mujoco.MjData(self.model)
         self.initial = np.array(world.initial_configuration() if initial is None else initial,
                                 dtype=float)
@@ -62,6 +67,20 @@ class MujocoDriver:
     def __repr__(self) -> str:
         return (f"MujocoDriver({self.group.name}, {self.group.dofs} dofs, "
                 f"{self.steps} x {self.time_step:g} s per period)")
+
+    def _change(self, physics: dict) -> None:
+        """Apply a sample's friction and masses to the compiled model."""
+        mujoco, model = self._mujoco, self.model
+        if "friction" in physics:
+            model.geom_friction[:, 0] = physics["friction"]
+        for body, mass in physics.get("mass", {}).items():
+            if body not in self.physics.free:
+                raise ValueError(f"cannot change the mass of '{body}': it is not a free body")
+            index = self.physics.free[body][2]
+            model.body_inertia[index] *= mass / model.body_mass[index]
+            model.body_mass[index] = mass
+        if physics:
+            mujoco.mj_setConst(model, mujoco.MjData(model))
 
     def _joint_table(self) -> dict:
         """Per servoed joint: MuJoCo's qpos, dof and activation addresses, pinocchio's
@@ -78,7 +97,7 @@ class MujocoDriver:
             joint = pin_model.joints[pin_model.getJointId(primary)]
             nq = 0 if name in physics.mimics else joint.nq
             act = int(self.model.actuator_actadr[2 * number])
-            window = self.servo.window(name, physics.efforts.get(name, 0.0))
+            window = self.servo.window(name, *physics.limits[name])
             command = int(offsets[group[primary]]) if primary in group else -1
             rows.append((qpos, dof, act, joint.idx_q, joint.idx_v, nq, window, command, scale))
         table = np.array(rows, dtype=float).reshape(-1, 9)
@@ -88,6 +107,10 @@ class MujocoDriver:
         out["continuous"] = out["nq"] == 2
         out["commanded"] = out["command"] >= 0
         out["own"] = out["nq"] > 0
+        ranges = self.model.jnt_range[[self.model.dof_jntid[d] for d in out["dof"]]]
+        limited = self.model.jnt_limited[[self.model.dof_jntid[d] for d in out["dof"]]]
+        out["lower"] = np.where(limited, ranges[:, 0], -np.inf)
+        out["upper"] = np.where(limited, ranges[:, 1], np.inf)
         return out
 
     def _free_table(self) -> dict:
@@ -120,8 +143,8 @@ class MujocoDriver:
         data.ctrl[1::2] = velocity
         measured = data.qpos[joints["qpos"]]
         window = joints["window"]
-        data.act[joints["act"]] = np.clip(data.act[joints["act"]], measured - window,
-                                          measured + window)
+        target = np.clip(data.act[joints["act"]], measured - window, measured + window)
+        data.act[joints["act"]] = np.clip(target, joints["lower"], joints["upper"])
         started = time.perf_counter()
         mujoco.mj_step(self.model, data, nstep=self.steps)
         self.step_time += time.perf_counter() - started

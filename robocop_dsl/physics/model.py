@@ -38,6 +38,10 @@ the physics step, which stability needs."""
 CONTACT_IMPEDANCE = (0.95, 0.99, 0.001, 0.5, 2.0)
 """MuJoCo's ``solimp`` of every contact: stiffer than its default, so that a gripper's
 squeeze sinks its fingers about a millimetre into a part, not a centimetre."""
+WELD_TIME_CONSTANT = 0.005
+"""[s] How fast a weld (``attach``) undoes a drift: at least twice the physics step."""
+WELD_IMPEDANCE = (0.99, 0.999, 0.001, 0.5, 2.0)
+"""MuJoCo's ``solimp`` of a weld: nearly rigid, a carried part stays put in the tool."""
 MIN_MASS = 1e-5
 """Mass [kg] (and inertia [kg m^2]) given to a moving link that has none."""
 
@@ -60,8 +64,9 @@ class PhysicsModel:
     free: dict = field(default_factory=dict)
     welds: dict = field(default_factory=dict)
     mimics: dict = field(default_factory=dict)
-    efforts: dict = field(default_factory=dict)
-    """Each servoed joint's URDF effort limit [N m or N] (0: none)."""
+    limits: dict = field(default_factory=dict)
+    """Each servoed joint's URDF ``(effort [N m or N], velocity [rad/s or m/s])`` limits
+    (0: none)."""
 
 
 def physics_model(world, time_step: float = 0.002, servo: Servo | None = None) -> PhysicsModel:
@@ -141,7 +146,7 @@ class _Builder:
         self.servoed: list = []
         self.mimics: dict = {}
         self.free_joints: dict = {}
-        self.efforts: dict = {}
+        self.limits: dict = {}
 
     def build(self, time_step: float):
         mj = self.mj
@@ -219,7 +224,9 @@ class _Builder:
             joint.actfrclimited = mj.mjtLimited.mjLIMITED_TRUE
         joint.actgravcomp = True
         self.servoed.append(name)
-        self.efforts[name] = effort if math.isfinite(effort) else 0.0
+        velocity = float(limit.get("velocity", "0")) if limit is not None else 0.0
+        self.limits[name] = (effort if math.isfinite(effort) else 0.0,
+                             velocity if math.isfinite(velocity) else 0.0)
 
     def _link(self, body, link: str, free: bool, gravity_compensated: bool) -> None:
         element = self.links[link]
@@ -304,7 +311,9 @@ class _Builder:
                 if other != free:
                     self.spec.add_equality(type=mj.mjtEq.mjEQ_WELD, name=_weld(free, other),
                                            name1=free, name2=other, active=False,
-                                           data=[0.0] * 12,
+                                           data=[0.0] * 12, solimp=list(WELD_IMPEDANCE),
+                                           solref=[max(WELD_TIME_CONSTANT,
+                                                       2 * self.spec.option.timestep), 1.0],
                                            objtype=mj.mjtObj.mjOBJ_BODY)
 
     def _actuators(self) -> None:
@@ -332,7 +341,7 @@ class _Builder:
         welds = {(a, b): mj.mj_name2id(model, mj.mjtObj.mjOBJ_EQUALITY, _weld(a, b))
                  for a in self.free_joints for b in self.links if b not in (a, ROOT)}
         return PhysicsModel(spec, model, joints, list(self.servoed), free, welds,
-                            dict(self.mimics), dict(self.efforts))
+                            dict(self.mimics), dict(self.limits))
 
     def compile_error(self, message: str) -> Diagnostic:
         """A MuJoCo compile error, located at the link of the mesh it names if any."""

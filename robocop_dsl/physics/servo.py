@@ -11,11 +11,19 @@ Each joint follows a position target integrated from its velocity command ``u``
 actuator). The force is limited to the URDF's ``effort`` when it gives one.
 
 A blocked joint (a finger on a part, an arm on the table) must neither wind up nor
-crush: at the start of every control period the target is brought back within
-``window = effort / kp`` of the measured position (``DEFAULT_WINDOW`` when the URDF
-gives no effort). Within a period of length ``T`` it moves by at most ``|u| T``, so
-at any time ``|target - q| <= window + |u| T`` and the position term of the force is
-at most ``effort + kp |u| T``; the total is clipped to ``effort`` anyway.
+crush, and a joint let go (a finger whose part slipped out) must not snap: at the
+start of every control period the target is brought back within ::
+
+    window = min(effort, kv v_max) / kp
+
+of the measured position, and within the joint's range. ``effort`` and ``v_max`` are
+the URDF's limits (``DEFAULT_WINDOW`` when it gives neither). Within a period of
+length ``T`` the target moves by at most ``|u| T`` and the joint by ``|dq|``, so at
+any time ``|target - q| <= window + |u| T + |dq|``. A blocked joint does not move
+(``dq = 0``, ``q' = 0``): the servo pushes it with at most
+``min(effort, kv v_max) + (kp T + kv) |u|``, and never more than ``effort``, where
+MuJoCo clips the joint's actuator force. A joint let go settles at the speed where
+damping balances the spring, ``kp window / kv <= v_max``.
 """
 
 from __future__ import annotations
@@ -81,8 +89,11 @@ class Servo:
         """``(kp, kv)`` of ``joint``."""
         return self.kp.get(joint, self.default_kp), self.kv.get(joint, self.default_kv)
 
-    def window(self, joint: str, effort: float) -> float:
-        """How far [rad or m] the target of ``joint`` may lead its measured position."""
-        if effort > 0 and math.isfinite(effort):
-            return effort / self.gains(joint)[0]
-        return DEFAULT_WINDOW
+    def window(self, joint: str, effort: float, max_velocity: float) -> float:
+        """How far [rad or m] the target of ``joint`` may lead its measured position,
+        given its URDF ``effort`` [N m or N] and ``max_velocity`` [rad/s or m/s] (0 or
+        infinite: none)."""
+        kp, kv = self.gains(joint)
+        forces = [force for force in (effort, kv * max_velocity)
+                  if force > 0 and math.isfinite(force)]
+        return min(forces) / kp if forces else DEFAULT_WINDOW

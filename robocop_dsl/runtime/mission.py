@@ -46,7 +46,8 @@ class Mission:
     def runner(self, solver: str | None = None, hierarchy: str | None = None,
                time_step: float | None = None, initial: np.ndarray | None = None,
                body_placements: dict | None = None, driver=None,
-               drivers: dict | None = None, realtime: bool = False) -> Runner:
+               drivers: dict | None = None, realtime: bool = False,
+               physics: dict | None = None) -> Runner:
         """A runner on private copies of the world's model.
 
         A mission run by several controllers (``spec.cascaded``) gets a
@@ -66,6 +67,8 @@ class Mission:
                 the world's driver processors on the controllers' joint groups.
             realtime: Whether the run will keep to the wall clock (a simulated driver
                 then runs in its own thread; otherwise it integrates in the loop).
+            physics: Changes to the physics of a ``mujoco`` driver: ``friction`` (the
+                sliding coefficient of every contact [-]) and ``mass`` ({free body: kg}).
 
         Raises:
             DiagnosticError: an option the world or the controller refuses.
@@ -83,7 +86,7 @@ class Mission:
                                       hierarchy=hierarchy, time_step=time_step)
         if driver is None:
             driver = self._driver(world, self.spec.controller, controller, initial,
-                                  realtime)
+                                  realtime, physics=physics)
         return Runner(build_program(self.spec), controller, driver, self.name)
 
     def _cascade(self, solver, hierarchy, initial, body_placements, drivers: dict,
@@ -124,12 +127,12 @@ class Mission:
                 "the mission's parameters and the run options (--solver, --hierarchy)")]) from None
 
     def _driver(self, world, controller_name: str, controller, initial, realtime: bool,
-                cascade: bool = False):
+                cascade: bool = False, physics: dict | None = None):
         try:
             processor = driver_of(world, controller_name) if cascade else None
             return create_driver(world, processor, realtime=realtime,
                                  time_step=controller.time_step, initial=initial,
-                                 controller=controller_name)
+                                 controller=controller_name, physics=physics)
         except RobocopError as error:
             raise DiagnosticError([self.spec.source.error(
                 "run-driver", str(error), None,

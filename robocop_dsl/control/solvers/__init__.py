@@ -1,7 +1,9 @@
 """QP backends: proxsuite's ProxQP (reused, warm-started) and any qpsolvers backend.
 
 qpsolvers (and SciPy with it) is imported only when another backend is named or the
-installed ones are listed: ProxQP needs neither, and `check` stays quick.
+installed ones are listed: ProxQP needs neither, and `check` stays quick. ProxQP is
+imported first, in its portable build (:mod:`.portable`), before qpsolvers can import
+another.
 """
 
 from __future__ import annotations

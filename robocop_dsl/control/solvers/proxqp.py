@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
-import proxsuite
 
 from .base import QPSolution, QPSolver, QuadraticProgram
+from .portable import portable_proxsuite
+
+proxsuite = portable_proxsuite()
 
 _SOLVED = proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED
 _WARM = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
