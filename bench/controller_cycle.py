@@ -46,13 +46,14 @@ from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
-import proxsuite
 
 from robocop_dsl.control import Controller
 from robocop_dsl.control.constraints.body_velocity import _DIRECTIONS, INSCRIBED_SCALE
+from robocop_dsl.control.solvers.portable import portable_proxsuite
 from robocop_dsl.safety.viable import BRAKING_SHARE
 from robocop_dsl.world import load_world
 
+proxsuite = portable_proxsuite()
 REPO = Path(__file__).resolve().parent.parent
 GAIN = 5.0
 POSTURE_WEIGHT = 1e-2

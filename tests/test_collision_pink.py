@@ -4,12 +4,13 @@ joint Jacobians) in place of ours gives the same command to 1e-6."""
 
 import numpy as np
 import pinocchio as pin
-import proxsuite
 import pytest
 
 from robocop_dsl.control import Controller, make_interpolator
+from robocop_dsl.control.solvers.portable import portable_proxsuite
 from robocop_dsl.world.collisions import checked_pairs
 
+proxsuite = portable_proxsuite()
 TOOL = "bazar_left_hankamp_tool_object_side"
 MIN_DISTANCE, INFLUENCE, DAMPING = 0.02, 0.12, 3.0
 

@@ -20,7 +20,8 @@ def blocks():
 
 def test_every_command_of_the_page_works(tmp_path):
     files = [(name, text) for _, name, text in blocks() if name]
-    assert [name for name, _ in files] == ["ur5_on_table.yaml", "reach.mission"]
+    assert [name for name, _ in files] == ["ur5_on_table.yaml", "reach.mission",
+                                           "ur5_physics.yaml"]
     for name, text in files:
         (tmp_path / name).write_text(text)
     commands = [line for language, name, text in blocks() if language == "bash"
@@ -44,3 +45,6 @@ def test_every_command_of_the_page_works(tmp_path):
     assert "outcome: success" in run and "tasks at the end" in run
     for figure in ("joint_positions.png", "velocity_commands.png", "task_errors.png"):
         assert (tmp_path / "reach_log" / figure).is_file()
+    assert "outcome: success" in outputs[
+        "robocop-mission run reach.mission --world ur5_physics.yaml"]
+    assert "<mujoco" in (tmp_path / "ur5.xml").read_text()

@@ -232,3 +232,35 @@ def test_driver_options_are_checked_with_the_world(tmp_path):
         ("wrong-option", 15, 50, "the physics step 3 ms of 'driver' does not divide the "
                                  "period 10 ms of 'controller'"),
     }
+
+
+def test_a_variant_overrides_what_it_includes(tmp_path):
+    """A file's processors override those of its includes, however deep: the variant of
+    the pick world keeps the pick's controller on the fingers and arm, with its own
+    driver."""
+    world = load_world(write(tmp_path, "kinematic.yaml", """
+        models:
+          - include: panda/panda_pick.yaml
+        processors:
+          driver: {type: simulated, options: {joint_group: panda_all}}
+    """))
+    assert world.processors["controller"].options["joint_group"] == "panda_all"
+    assert world.processors["driver"].type == "simulated"
+    assert world.physics.friction == (1.0, 0.005, 0.0001)
+
+
+def test_check_against_a_world_variant(tmp_path):
+    """`check --world`: the pickup passes on its physics variant, and a variant whose
+    part is not free gets every attach and detach located."""
+    assert cli("check", "missions/pickup.mission", "--world",
+               "bazar/sophia_physics.yaml").returncode == 0
+    fixed = write(tmp_path, "fixed_part.yaml", """
+        models:
+          - include: bazar/sophia.yaml
+        processors:
+          driver: {type: mujoco, options: {joint_group: bazar_upper_joints}}
+    """)
+    done = cli("check", "missions/pickup.mission", "--world", fixed)
+    assert done.returncode == 1
+    assert [line.split(": error")[0].rsplit(":", 2)[1:] for line in done.stdout.splitlines()
+            if "error[not-free]" in line] == [["67", "39"], ["83", "43"]]

@@ -140,8 +140,10 @@ def read_description(path: Path) -> WorldDescription:
 class _Reader:
     def __init__(self, description: WorldDescription):
         self.out = description
+        self.set_by: dict = {}
+        """What set each processor and the physics: the include chain to its file."""
 
-    def read(self, path: Path, prefix: str, stack: tuple, top: bool = True) -> None:
+    def read(self, path: Path, prefix: str, stack: tuple) -> None:
         try:
             source = SourceFile.read(path)
             data = load_yaml(source)
@@ -159,9 +161,9 @@ class _Reader:
         self._models(source, data.get("models"), data, prefix, stack)
         self._groups(source, data.get("joint_groups"), data, prefix)
         self._initial(source, data.get("initial"), data, prefix)
-        self._processors(source, data.get("processors"), data, top)
+        self._processors(source, data.get("processors"), data, stack)
         self._allowed_collisions(source, data.get("allowed_collisions"), data, prefix)
-        self._physics(source, data.get("physics"), data, top)
+        self._physics(source, data.get("physics"), data, stack)
 
     def _unknown_key(self, source, mapping: YamlMap, key, allowed) -> None:
         self.out.diagnostics.append(source.error(
@@ -220,7 +222,7 @@ class _Reader:
             self.out.diagnostics.append(at.error(
                 "include-cycle", f"include cycle: {chain}", "remove one of the includes in the cycle"))
             return
-        self.read(target, inner, stack, top=False)
+        self.read(target, inner, stack)
 
     def _model(self, source, entry: YamlMap, outer: str, inner: str) -> None:
         name = str(entry["path"])
@@ -341,7 +343,18 @@ class _Reader:
             self.out.initial.append((prefixed(prefix, str(key)), vector,
                                      Located(source, initial.span(key))))
 
-    def _processors(self, source, processors, data, top: bool) -> None:
+    def _wins(self, stack: tuple, key) -> bool:
+        """Whether the file at the end of ``stack`` sets ``key`` (a processor's name, or
+        ``physics``): when nothing set it yet, or a file it includes did (a file
+        overrides its includes; of two files that do not include each other, the
+        first read wins)."""
+        previous = self.set_by.get(key)
+        if previous is not None and previous[:len(stack)] != stack:
+            return False
+        self.set_by[key] = stack
+        return True
+
+    def _processors(self, source, processors, data, stack: tuple) -> None:
         if processors is None or not self._expect(source, processors, YamlMap, data,
                                                   "processors"):
             return
@@ -360,19 +373,19 @@ class _Reader:
                 options = YamlMap()
             elif not self._expect(source, options, YamlMap, entry, "options"):
                 options = YamlMap()
-            if top or name not in self.out.processors:
+            if self._wins(stack, ("processor", str(name))):
                 self.out.processors[name] = ProcessorEntry(
                     str(name), str(entry["type"]), options, at,
                     Located(source, entry.value_span("type")),
                     Located(source, entry.span("options") if "options" in entry else at.span))
 
-    def _physics(self, source, physics, data, top: bool) -> None:
+    def _physics(self, source, physics, data, stack: tuple) -> None:
         if physics is None or not self._expect(source, physics, YamlMap, data, "physics"):
             return
         for key in physics:
             if key not in _PHYSICS_KEYS:
                 self._unknown_key(source, physics, key, _PHYSICS_KEYS)
-        if not top and self.out.physics != Physics():
+        if not self._wins(stack, "physics"):
             return
         gravity = self.out.physics.gravity
         if "gravity" in physics:
