@@ -160,3 +160,17 @@ def test_bazar_drops_the_part_it_lets_go_early(tmp_path, drop_point):
     after = np.asarray(log["time"]) > released + 0.5
     assert np.allclose(part[after][:, 2], 0.76, atol=2e-3)      # on the workbench
     assert np.linalg.norm(part[-1] - drop_point) > 0.1
+
+
+def test_a_cascade_is_refused_in_physics(tmp_path):
+    """Each controller of a cascade has its own driver; one physics cannot be split
+    between them: the run says so, without a traceback."""
+    world = tmp_path / "cascade_physics.yaml"
+    world.write_text("models:\n  - include: bazar/sophia_cascade.yaml\nprocessors:\n"
+                     "  arms_driver: {type: mujoco, options: {joint_group: bazar_arms}}\n")
+    mission = variant(tmp_path, "pickup_cascade.mission",
+                      "exit  { attach part_body to bazar_left_hankamp_tool_object_side }", "")
+    mission.write_text(mission.read_text().replace("exit  { detach part_body }", ""))
+    done = run(mission, "--world", world)
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    assert "one physics cannot be split between them" in done.stderr

@@ -130,6 +130,12 @@ class Mission:
                 cascade: bool = False, physics: dict | None = None):
         try:
             processor = driver_of(world, controller_name) if cascade else None
+            if cascade and world.processors[processor].type == "mujoco":
+                raise DriverConfigError(
+                    f"'{controller_name}' is cascaded and its driver '{processor}' is a "
+                    "mujoco one: each controller of a cascade has a driver of its own, "
+                    "and one physics cannot be split between them; run the mission with "
+                    "one controller on a physics world")
             return create_driver(world, processor, realtime=realtime,
                                  time_step=controller.time_step, initial=initial,
                                  controller=controller_name, physics=physics)
