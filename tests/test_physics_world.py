@@ -2,6 +2,7 @@
 ``robocop-mission world --mjcf`` writes, and the located errors of worlds physics
 cannot simulate."""
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -121,6 +122,10 @@ def test_physics_section_of_the_world_file(tmp_path):
     model = physics_model(loaded).model
     assert np.allclose(model.opt.gravity, [0, 0, -1.62])
     assert np.allclose(model.geom_friction[:, 0], 0.4)
+    described = json.loads(cli("world", world, "--format", "json").stdout)
+    assert described["physics"] == {"gravity": [0.0, 0.0, -1.62],
+                                    "friction": [0.4, 0.005, 0.0001],
+                                    "free_bodies": ["cube_body"]}
 
 
 def test_physics_errors_are_located(tmp_path):

@@ -101,6 +101,9 @@ def describe(world: World) -> dict:
         "processors": [{"name": p.name, "type": p.type,
                         "options": {**p.options, **p.run_options}, "driver": p.driver}
                        for p in world.processors.values()],
+        "physics": {"gravity": list(world.physics.gravity),
+                    "friction": list(world.physics.friction),
+                    "free_bodies": world.free_bodies()},
         "collisions": collisions(world),
     }
 
@@ -170,6 +173,10 @@ def render_text(world: World) -> str:
                                                       **processor.run_options}.items())
         driver = f" (driver: {processor.driver})" if processor.driver else ""
         lines.append(f"  {processor.name}: {processor.type} {{{options}}}{driver}")
+    physics = world.physics
+    lines += ["", f"physics: gravity {list(physics.gravity)} m/s^2, friction "
+                  f"{list(physics.friction)} (sliding, torsional m, rolling m), free bodies: "
+                  f"{', '.join(world.free_bodies()) or 'none'}"]
     lines += _collision_lines(collisions(world))
     return "\n".join(lines)
 
