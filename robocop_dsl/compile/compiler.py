@@ -15,7 +15,7 @@ from ..check.controllers import controller_of, mission_controllers
 from ..check.values import to_si, vector_to_si
 from ..diagnostics import SourceFile
 from ..lang import ast
-from ..lang.catalogue import (BODY, COLLISION_SETS, CONSTRAINTS, FEEDBACKS, INTEGER,
+from ..lang.catalogue import (AXES, BODY, COLLISION_SETS, CONSTRAINTS, FEEDBACKS, INTEGER,
                               INTERPOLATORS, JOINT_GROUP, NORM_OR_AXES, PER_AXIS, PER_DOF,
                               SCALAR, SPACE_AXES, SWITCH, TASKS, Kind, Registry)
 from ..lang.formatter import format_condition
@@ -112,8 +112,8 @@ def _constraint(decl: ast.ConstraintDecl, names: WorldNames,
 
 def convert(value: ast.Value, kind: str, dofs: int):
     """A parameter value in SI: float, tuple (per dof; per axis for ``PER_AXIS`` and
-    ``NORM_OR_AXES`` vectors, whose single number stays a float), int, bool or a body
-    name."""
+    ``NORM_OR_AXES`` vectors, whose single number stays a float), int, bool, a body
+    name or, for ``AXES``, the indices (0, 1, 2 for x, y, z) of the axes listed."""
     if kind == SCALAR:
         return to_si(value)
     if kind == PER_DOF:
@@ -128,6 +128,8 @@ def convert(value: ast.Value, kind: str, dofs: int):
         return int(value.value)
     if kind == BODY:
         return value.name.text
+    if kind == AXES:
+        return tuple("xyz".index(element.name.text) for element in value.values)
     raise ValueError(f"no conversion for parameters of kind {kind!r}")
 
 

@@ -33,6 +33,7 @@ TOLERANCE = "tolerance"      # when a task counts as reached (see TOLERANCES)
 SWITCH = "switch"            # true or false
 INTEGER = "integer"          # a non-negative whole number
 BODY = "body"                # a body name, or world
+AXES = "axes"                # a list of the world's axes: [x, z]
 INTERPOLATOR = "interpolator"
 FEEDBACK = "feedback"
 TARGET = "target"

@@ -17,6 +17,10 @@ LINEAR_ACCELERATION = "linear acceleration"
 ANGULAR_ACCELERATION = "angular acceleration"
 LINEAR_JERK = "linear jerk"
 ANGULAR_JERK = "angular jerk"
+FORCE = "force"
+TORQUE = "torque"
+ADMITTANCE = "admittance"
+"""A velocity per unit of force: a force task's gain."""
 DIMENSIONLESS = "dimensionless"
 
 
@@ -41,12 +45,16 @@ UNITS: dict[str, Unit] = {u.symbol: u for u in (
     Unit("rad/s^2", ANGULAR_ACCELERATION, 1.0), Unit("deg/s^2", ANGULAR_ACCELERATION, _DEG),
     Unit("m/s^3", LINEAR_JERK, 1.0), Unit("rad/s^3", ANGULAR_JERK, 1.0),
     Unit("deg/s^3", ANGULAR_JERK, _DEG),
+    Unit("N", FORCE, 1.0), Unit("kN", FORCE, 1e3), Unit("mN", FORCE, 1e-3),
+    Unit("Nm", TORQUE, 1.0),
+    Unit("(m/s)/N", ADMITTANCE, 1.0), Unit("(cm/s)/N", ADMITTANCE, 1e-2),
+    Unit("(mm/s)/N", ADMITTANCE, 1e-3),
 )}
 
 SI_SYMBOL = {LENGTH: "m", ANGLE: "rad", TIME: "s", LINEAR_VELOCITY: "m/s",
              ANGULAR_VELOCITY: "rad/s", LINEAR_ACCELERATION: "m/s^2",
              ANGULAR_ACCELERATION: "rad/s^2", LINEAR_JERK: "m/s^3", ANGULAR_JERK: "rad/s^3",
-             DIMENSIONLESS: ""}
+             FORCE: "N", TORQUE: "Nm", ADMITTANCE: "(m/s)/N", DIMENSIONLESS: ""}
 
 
 def lookup(symbol: str) -> Unit | None:
