@@ -38,6 +38,8 @@ class Scene:
                           model.frames[world.body_frame_id(b)].parentJoint])]
         self.bodies = world.body_names()
         self.revolute = not any(world.joint(j).type == "prismatic" for j in self.group.joints)
+        self.sensed = [p.options["body"] for p in world.processors.values()
+                       if p.type == "force_sensor"]
 
 
 def _unit(dimension: str) -> str:
@@ -170,19 +172,54 @@ class MissionGenerator:
                        + "\n".join(lines) + "\n}")
         return out
 
+    def variables(self) -> list[str]:
+        """Three vars: a count, a length measured at the start, a position assigned
+        later."""
+        tool, body = self.rng.choice(self.scene.tools), self.rng.choice(self.scene.bodies)
+        return ["var laps: count = 0", f"var reach: length = distance({tool}, {body})",
+                "var seen: position"]
+
+    def assignments(self) -> list[str]:
+        """Assignments of the vars, with arithmetic over measures and constants."""
+        rng = self.rng
+        tool, body = rng.choice(self.scene.tools), rng.choice(self.scene.bodies)
+        found = ["laps = laps + 1",
+                 f"reach = distance({tool}, {body}) * {rng.uniform(0.5, 2):.2f} - "
+                 f"{rng.uniform(0, 5):.1f} mm",
+                 f"seen = {tool}.position", 'log "lap {laps}, reach {reach}"']
+        if self.scene.sensed:
+            found.append(f"reach = reach + force({rng.choice(self.scene.sensed)}).z "
+                         f"* {rng.uniform(0.001, 0.01):.4f} (m/s)/N * 1 s")
+        return rng.sample(found, rng.randint(1, len(found)))
+
+    def value_condition(self) -> str:
+        """A condition on a var, a position or a force."""
+        rng = self.rng
+        choices = [f"laps >= {rng.randint(1, 3)}", f"reach < {rng.uniform(0.05, 1):.2f} m",
+                   f"{rng.choice(self.scene.tools)}.position.z > {rng.uniform(0, 1.5):.2f} m"]
+        if self.scene.sensed:
+            body = rng.choice(self.scene.sensed)
+            choices += [f"force({body}).z < -{rng.uniform(0.5, 5):.1f} N",
+                        f"torque({body}) > {rng.uniform(0.1, 2):.1f} Nm",
+                        f"contact({body}, {rng.choice(self.scene.bodies)})"]
+        return rng.choice(choices)
+
     def mission(self) -> str:
-        """A mission: two constraints, two to four tasks, two to five states with
-        random enables, targets and exits, and the finals ``done`` and ``failed``."""
+        """A mission: three vars, two constraints, two to four tasks, two to five states
+        with random enables, targets, assignments and exits, and the finals ``done`` and
+        ``failed``."""
         rng = self.rng
         tasks = [self.task(f"t{i}") for i in range(rng.randint(2, 4))]
         states = [f"s{i}" for i in range(rng.randint(2, 5))]
         text = [f"mission generated\n\nworld \"{self.scene.path}\"\n"]
+        text.append("\n".join(self.variables()))
         text += self.constraints()
         text += [declaration for declaration, _, _ in tasks]
         for index, state in enumerate(states):
             chosen = rng.sample(range(len(tasks)), rng.randint(1, len(tasks)))
             enter = [f"        enable {', '.join(f't{i}' for i in chosen)}"]
             enter += [f"        t{i}.target = {tasks[i][1]}" for i in chosen if tasks[i][1]]
+            enter += [f"        {line}" for line in self.assignments()]
             clauses = []
             for _ in range(rng.randint(1, 3)):
                 task = rng.choice(chosen)
@@ -190,7 +227,8 @@ class MissionGenerator:
                     f"t{task}.reached", f"elapsed > {rng.uniform(0.1, 1.0):.2f} s",
                     f"t{task}.error < {rng.uniform(0.001, 0.1):.3f}",
                     f"distance({rng.choice(self.scene.tools)}, "
-                    f"{rng.choice(self.scene.bodies)}) < {rng.uniform(0.01, 0.5):.2f} m"])
+                    f"{rng.choice(self.scene.bodies)}) < {rng.uniform(0.01, 0.5):.2f} m",
+                    self.value_condition()])
                 goal = rng.choice(states[:index] + states[index + 1:] + ["done", "failed"])
                 clauses.append(f"    when {condition} -> {goal}")
             clauses.append("    when elapsed > 2 s -> failed")

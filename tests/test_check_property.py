@@ -14,7 +14,10 @@ SEEDS = [p.read_text() for p in sorted((REPO / "missions").glob("*.mission"))]
 TOKENS = ["{", "}", "(", ")", "[", "]", "->", "=", ":", ",", ".", "\n", " ", "#", '"',
           "when", "state", "final", "task", "enable", "offset", "and", "not", "rad", "mm",
           "1e999", "-3", "0.5", "pose(", "otg(", "arms", "left_tool", "elapsed", "<", ">=",
-          "current", "world", "controller.failed", "event", "emit", "log", "start", "[1, 2]"]
+          "current", "world", "controller.failed", "event", "emit", "log", "start", "[1, 2]",
+          "var", "var n: count = 0", "var z: length", "n = n + 1", "z = z * 2 - 1 mm", "+",
+          "*", "/", "force(", "force(left_tool).z", "torque(", "contact(", "contact(a, b)",
+          "N", "Nm", "(m/s)/N", "count", "position", '"{n}"', "{", ".position.z", "z"]
 
 LIBRARY = "bazar_common.mission"
 COMPOSITE = [(p.read_text(), (REPO / "missions" / LIBRARY).read_text())

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 from ..diagnostics import Span, did_you_mean
 from ..lang import ast
+from ..lang.catalogue import AXES_PARAMETERS
 from ..lang.units import DIMENSIONLESS, SI_SYMBOL, lookup
 from .context import CheckContext
 from .rewrite import at, rebuild
@@ -25,7 +26,8 @@ _NAME_FIELDS = {
     ast.Assign: ("owner",), ast.Member: ("owner",), ast.Attach: ("body", "parent"),
     ast.Detach: ("body",), ast.Emit: ("event",), ast.EventCondition: ("event",),
     ast.Offset: ("body",), ast.Distance: ("first", "second"),
-    ast.Clearance: ("first", "second"),
+    ast.Clearance: ("first", "second"), ast.Wrench: ("body",),
+    ast.Contact: ("first", "second"),
 }
 
 
@@ -45,6 +47,14 @@ def substitute(ctx: CheckContext, node, bindings: dict[str, Binding]):
     def visit(child):
         if isinstance(child, ast.Reference):
             return _value(child, bindings)
+        if isinstance(child, ast.Variable):
+            binding = bindings.get(child.name.text)
+            if binding is not None and not isinstance(binding.value, (ast.Name,
+                                                                      ast.Reference)):
+                return at(binding.value, child.span)
+            return child
+        if isinstance(child, ast.Log):
+            return _log(child, bindings)
         if isinstance(child, ast.Vector) and any(isinstance(v, ast.NameElement)
                                                  for v in child.values):
             return resolve_vector(ctx, child, bindings)
@@ -52,7 +62,28 @@ def substitute(ctx: CheckContext, node, bindings: dict[str, Binding]):
         if fields:
             return _renamed(child, fields, bindings)
         return child
-    return rebuild(node, visit)
+    return rebuild(node, visit, keep=_lists_axes)
+
+
+def _lists_axes(node) -> bool:
+    """A parameter that lists the world's axes (``axes = [x, z]``): names, no constants."""
+    return isinstance(node, ast.Parameter) and node.name.text in AXES_PARAMETERS
+
+
+def _log(log: ast.Log, bindings: dict[str, Binding]) -> ast.Log:
+    """A log text with the ``{NAME}`` of constants and parameters written in."""
+    from ..lang.formatter import format_value
+
+    def written(match):
+        binding = bindings.get(match.group(1).strip())
+        if binding is None or not isinstance(binding.value, (ast.Quantity, ast.Vector)):
+            return match.group(0)
+        return format_value(binding.value)
+
+    from .variables import PLACEHOLDER
+
+    text = PLACEHOLDER.sub(written, log.text)
+    return log if text == log.text else dataclasses.replace(log, text=text)
 
 
 def _bound_name(name: ast.Name, bindings: dict[str, Binding]) -> ast.Name:
@@ -88,8 +119,9 @@ def _value(reference: ast.Reference, bindings: dict[str, Binding]):
 
 def resolve_vector(ctx: CheckContext, vector: ast.Vector,
                    bindings: dict[str, Binding]) -> ast.Vector:
-    """A vector whose named elements are replaced by their numbers, in SI; ``vector``
-    itself (names left in it) after reporting names that are not numbers."""
+    """A vector whose named elements are replaced by their numbers, in SI (a var's name
+    stays, read when the vector is used); ``vector`` itself (names left in it) after
+    reporting names that are not numbers."""
     unit = lookup(vector.unit.text) if vector.unit else None
     scale = unit.to_si if unit else 1.0
     dimensions = {unit.dimension} if unit else set()
@@ -105,6 +137,9 @@ def resolve_vector(ctx: CheckContext, vector: ast.Vector,
         value, dimension = number
         if dimension is not None:
             dimensions.add(dimension)
+        if isinstance(value, ast.NameElement):
+            values.append(value)
+            continue
         values.append(-value if element.negative else value)
     if not ok:
         return vector
@@ -120,11 +155,13 @@ def resolve_vector(ctx: CheckContext, vector: ast.Vector,
 
 
 def _element(ctx: CheckContext, element: ast.NameElement, bindings: dict[str, Binding]):
-    """``(value [SI], dimension or None)`` of a name in a vector, ``None`` after
-    reporting a name that is not a number."""
+    """``(value [SI], dimension or None)`` of a name in a vector (the element itself
+    for a var), ``None`` after reporting a name that is not a number."""
     name = element.name
     binding = bindings.get(name.text)
     value = binding.value if binding is not None else None
+    if binding is None and name.text in ctx.all_variables:
+        return element, None
     if (binding is None and name.text in ctx.generic) or ctx.opaque(value):
         return 0.0, None
     if binding is None:

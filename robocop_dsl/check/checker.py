@@ -17,6 +17,7 @@ from .imports import merge_imports
 from .joint_limits import check_joint_limits
 from .regions import check_regions
 from .states import check_machine, check_machines
+from .variables import check_reads
 
 
 def check_mission(mission: ast.Mission, source: SourceFile, world=None,
@@ -41,8 +42,10 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None,
     check_joint_limits(ctx, expanded)
     check_assignment(ctx, expanded)
     check_machines(ctx, expanded)
+    check_reads(ctx, expanded.machine)
     check_regions(ctx, expanded.machine)
     base = ctx.generic
+    ctx.variables = ctx.mission_variables
     for name, machine, generic in expander.unused_behaviors():
         ctx.generic = generic
         ctx.all_states = state_names(machine)
@@ -50,6 +53,7 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None,
         check_regions(ctx, machine)
         ctx.unused.append((expander.behaviors[name].name, machine))
     ctx.generic = base
+    ctx.variables = {}
     ctx.expanded = expanded
     return ctx
 

@@ -5,10 +5,11 @@ from __future__ import annotations
 from ..lang import ast
 from ..lang.catalogue import (GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE, ORIENTATION_SPACE,
                               POSE_SPACE, POSITION, POSITION_SPACE, TWIST_SPACE, VELOCITY)
-from ..lang.units import ANGLE, ANGULAR_VELOCITY, DIMENSIONLESS, LENGTH, LINEAR_VELOCITY, TIME
+from ..lang.units import (ANGLE, ANGULAR_VELOCITY, DIMENSIONLESS, FORCE, LENGTH,
+                          LINEAR_VELOCITY, TIME, TORQUE)
 from .collisions import check_collision_set
 from .context import CheckContext
-from .declarations import subject_of
+from .declarations import check_sensed, subject_of
 from .parameters import check_body
 from .values import check_quantity, space_dimensions
 
@@ -40,14 +41,13 @@ def check_condition(ctx: CheckContext, condition: ast.Condition) -> None:
             ctx.unknown("unknown-event", "event", condition.event, ctx.symbols.events,
                         f"no action emits it: add 'emit {name}' to a state, or declare "
                         f"'event {name}' when it comes from outside the mission")
+    elif isinstance(condition, ast.Contact):
+        check_contact(ctx, condition)
     elif isinstance(condition, ast.Comparison):
         dimensions = measure_dimensions(ctx, condition.measure)
         value = condition.quantity
         if isinstance(value, ast.Reference):
-            if value.name.text not in ctx.generic:
-                ctx.unknown("unknown-name", "constant", value.name, ctx.numbers,
-                            "compare with a number and its unit, or a constant or "
-                            "parameter that holds one")
+            _compare_with_name(ctx, condition, dimensions)
             return
         if not isinstance(value, ast.Quantity):
             ctx.error("wrong-value", "a comparison needs one number", value.span,
@@ -60,7 +60,59 @@ def check_condition(ctx: CheckContext, condition: ast.Condition) -> None:
         _check_flag(ctx, condition)
 
 
+def _compare_with_name(ctx: CheckContext, condition: ast.Comparison, dimensions) -> None:
+    """A comparison with a var (a constant was substituted before)."""
+    from .variables import NAMED, describe
+
+    name = condition.quantity.name
+    if name.text in ctx.generic:
+        return
+    info = ctx.variables.get(name.text)
+    if info is None:
+        what = "var or constant" if ctx.all_variables else "constant"
+        ctx.unknown("unknown-name", what, name, [*ctx.variables, *ctx.numbers],
+                    "compare with a number and its unit, a var, or a constant or "
+                    "parameter that holds one")
+        return
+    if dimensions is None:
+        return
+    wanted = {NAMED[d] for d in dimensions}
+    if info.typed.size != 1 or info.typed.dimension not in wanted:
+        ctx.error("wrong-dimension", f"'{_measure_text(condition.measure)}' is compared with "
+                  f"'{name.text}', {describe(info.typed.dimension, info.typed.size)}",
+                  name.span, "compare like with like")
+
+
+def check_contact(ctx: CheckContext, contact: ast.Contact) -> None:
+    """``contact(A, B)``: two bodies or sets, in a world whose physics has contacts."""
+    known = all([check_collision_set(ctx, name) for name in (contact.first, contact.second)])
+    if known and ctx.world.known and not ctx.world.simulated:
+        ctx.error("no-contacts", "'contact' reads the physics, and this world has none",
+                  contact.span, "run the mission on a world with a mujoco driver (run "
+                  "--world VARIANT), or compare a clearance: clearance(A, B) < 1 mm")
+
+
+def check_wrench(ctx: CheckContext, wrench: ast.Wrench) -> tuple[str, ...] | None:
+    """``force(BODY)`` [N] or ``torque(BODY)`` [N m], with an optional axis: a body that
+    a force sensor measures."""
+    what = "torque" if wrench.torque else "force"
+    if wrench.axis is not None and wrench.axis.text not in ("x", "y", "z"):
+        ctx.unknown("unknown-field", "axis", wrench.axis, ("x", "y", "z"),
+                    f"a {what} has x, y and z (in the world frame)", where=f" of a {what}")
+        return None
+    if not check_body(ctx, wrench.body) or not check_sensed(ctx, wrench.body):
+        return None
+    return (TORQUE if wrench.torque else FORCE,)
+
+
 def _measure_text(measure: ast.Measure) -> str:
+    if isinstance(measure, ast.Wrench):
+        axis = f".{measure.axis.text}" if measure.axis else ""
+        return f"{'torque' if measure.torque else 'force'}({measure.body.text}){axis}"
+    if isinstance(measure, ast.Variable):
+        return measure.name.text
+    if isinstance(measure, ast.Member) and measure.region is not None:
+        return f"{measure.owner.text}.{measure.region.text}.{measure.field.text}"
     if isinstance(measure, ast.Member):
         return f"{measure.owner.text}.{measure.field.text}"
     if isinstance(measure, ast.Distance):
@@ -188,12 +240,46 @@ def measure_dimensions(ctx: CheckContext, measure: ast.Measure) -> tuple[str, ..
     """What a measure may be compared with; ``None`` after reporting a bad measure."""
     if isinstance(measure, (ast.Elapsed, ast.Time)):
         return (TIME,)
+    if isinstance(measure, ast.Wrench):
+        return check_wrench(ctx, measure)
+    if isinstance(measure, (ast.Variable, ast.Member)):
+        return _value_dimensions(ctx, measure)
     if isinstance(measure, ast.Clearance):
         known = [check_collision_set(ctx, name) for name in (measure.first, measure.second)]
         return (LENGTH,) if all(known) else None
     if isinstance(measure, ast.Distance):
         known = [check_body(ctx, name) for name in (measure.first, measure.second)]
         return (LENGTH,) if all(known) else None
+    return _member_dimensions(ctx, measure)
+
+
+def _value_dimensions(ctx: CheckContext, measure) -> tuple[str, ...] | None:
+    """A var or ``BODY.position.x|y|z`` compared: one number of a named dimension."""
+    from .variables import NAMED, body_position, variable
+
+    if isinstance(measure, ast.Member):
+        field = measure.region.text if measure.region is not None else measure.field.text
+        if not (field == "position" and ctx.world.has_body(measure.owner.text)
+                and measure.owner.text not in ctx.symbols.tasks):
+            return _member_dimensions(ctx, measure)
+        typed = body_position(ctx, measure)
+    else:
+        typed = variable(ctx, measure.name, ctx.variables)
+    if typed is None:
+        return None
+    if typed.size != 1:
+        ctx.error("wrong-value", f"'{_measure_text(measure)}' is a 3-vector: compare one of "
+                  "its components", measure.span, f"{_measure_text(measure)}.z")
+        return None
+    named = [name for name, dimension in NAMED.items() if dimension == typed.dimension]
+    if not named:
+        ctx.error("wrong-dimension", f"'{_measure_text(measure)}' has no unit to compare "
+                  "with", measure.span, "compare a var of a named kind")
+        return None
+    return tuple(named)
+
+
+def _member_dimensions(ctx: CheckContext, measure: ast.Member) -> tuple[str, ...] | None:
     field = measure.field.text
     state = scoped_state(ctx, measure)
     if state is not None:

@@ -54,6 +54,13 @@ class WorldNames:
     def body_names(self) -> list[str]:
         return list(self.world.body_names()) if self.world else []
 
+    def sensed_bodies(self) -> list[str]:
+        """The bodies a ``force_sensor`` processor measures."""
+        if self.world is None:
+            return []
+        return [p.options.get("body") for p in self.world.processors.values()
+                if p.type == "force_sensor"]
+
     @property
     def simulated(self) -> bool:
         """Whether a physics driver (``mujoco``) runs the world."""
@@ -172,6 +179,11 @@ class CheckContext:
     generic bindings); ``imports_parsed`` is false when an imported file has a syntax
     error. ``declared`` holds, by constraint name, the value and numbers [SI] its
     declaration gives to each parameter that must stay ordered (``min_position``...).
+    ``variables`` are the vars the machine being checked sees (name to
+    :class:`~.variables.VarInfo`), ``mission_variables`` those the mission declares at
+    its top, which every behaviour sees; ``all_variables`` the names of every var
+    declared anywhere; ``in_target`` is true while an action's target is checked (the
+    one value that may hold vars).
     """
 
     def __init__(self, source: SourceFile, world=None):
@@ -192,6 +204,10 @@ class CheckContext:
         self.unused: list[tuple[ast.Name, ast.Machine]] = []
         self.imports_parsed = True
         self.declared: dict[str, dict[str, tuple]] = {}
+        self.variables: dict = {}
+        self.mission_variables: dict = {}
+        self.all_variables: set[str] = set()
+        self.in_target = False
 
     def source_of(self, span: Span | None) -> SourceFile:
         """The file a span is in."""

@@ -123,8 +123,23 @@ def check_declarations(ctx: CheckContext, mission: ast.Mission) -> None:
     """Types, arguments and parameters of every task and constraint."""
     for decl in mission.tasks:
         _check_declaration(ctx, decl, TASKS, "unknown-task-type")
+        if decl.kind.text == "body_force" and len(decl.arguments) == 1:
+            check_sensed(ctx, decl.arguments[0])
     for decl in mission.constraints:
         _check_declaration(ctx, decl, CONSTRAINTS, "unknown-constraint-type")
+
+
+def check_sensed(ctx: CheckContext, body: ast.Name) -> bool:
+    """Whether a force sensor measures ``body`` (reported when the world has none on
+    it)."""
+    sensed = ctx.world.sensed_bodies()
+    if not ctx.world.known or body.text in sensed or not ctx.world.has_body(body.text):
+        return True
+    ctx.error("no-sensor", f"'{body.text}' has no force sensor", body.span,
+              "add one to the world: processors: {NAME: {type: force_sensor, options: "
+              f"{{body: {body.text}}}}}}}" + (f" (sensed: {', '.join(sensed)})" if sensed
+                                             else ""))
+    return False
 
 
 def subject_of(ctx: CheckContext, decl) -> Subject | None:

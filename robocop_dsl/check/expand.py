@@ -47,6 +47,9 @@ class Expander:
     def __init__(self, ctx: CheckContext, mission: ast.Mission):
         self.ctx = ctx
         self.lets = declared_constants(ctx, mission)
+        ctx.all_variables = {v.name.text for machine in
+                             (mission.machine, *(b.machine for b in mission.behaviors))
+                             for v in machine.variables}
         ctx.numbers = [n for n, b in self.lets.items() if isinstance(b.value, ast.Quantity)]
         ctx.vectors = [n for n, b in self.lets.items() if isinstance(b.value, ast.Vector)]
         self.base = ctx.generic
@@ -59,7 +62,8 @@ class Expander:
         """``mission`` with constants bound in its declarations and its machine expanded."""
         items = []
         for item in mission.items:
-            if isinstance(item, (ast.TaskDecl, ast.ConstraintDecl, ast.Transition)):
+            if isinstance(item, (ast.TaskDecl, ast.ConstraintDecl, ast.Transition,
+                                 ast.VarDecl)):
                 item = substitute(self.ctx, item, self.lets)
             elif isinstance(item, ast.StateDecl):
                 item = self.state(item, self.lets)

@@ -5,10 +5,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..lang import ast
-from ..lang.catalogue import (BODY, FEEDBACK, FEEDBACKS, INTEGER, INTERPOLATOR,
-                              INTERPOLATORS, NORM_OR_AXES, PER_AXIS, PER_DOF, SCALAR,
-                              SPACE_AXES, SWITCH, SWITCH_WORDS, TARGET, TOLERANCE, Kind,
-                              Parameter, Range, Registry)
+from ..lang.catalogue import (AXES, AXIS_NAMES, BODY, FEEDBACK, FEEDBACKS, INTEGER,
+                              INTERPOLATOR, INTERPOLATORS, NORM_OR_AXES, PER_AXIS, PER_DOF,
+                              SCALAR, SPACE_AXES, SWITCH, SWITCH_WORDS, TARGET, TOLERANCE,
+                              Kind, Parameter, Range, Registry)
 from ..lang.units import describe
 from .context import CheckContext, Joints
 from .targets import check_target
@@ -75,6 +75,8 @@ def check_value(ctx: CheckContext, parameter: Parameter, value: ast.Value, subje
         numbers = (value.value,)
     elif parameter.kind == BODY:
         check_body_value(ctx, value, what)
+    elif parameter.kind == AXES:
+        _check_axes(ctx, value, what)
     elif parameter.kind == INTERPOLATOR:
         check_call(ctx, value, INTERPOLATORS, "unknown-interpolator", subject, what)
     elif parameter.kind == FEEDBACK:
@@ -97,6 +99,28 @@ def _check_norm_or_axes(ctx: CheckContext, value: ast.Value, dimensions: tuple[s
     ctx.error("wrong-value", f"{what} expects {describe(dimensions)}", value.span,
               "one number bounds the norm, a vector [x, y, z] bounds each axis")
     return None
+
+
+def _check_axes(ctx: CheckContext, value: ast.Value, what: str) -> None:
+    """A list of the world's axes, each once: ``[x, z]``."""
+    hint = "for example [z] or [x, y]: the world's axes are " + ", ".join(AXIS_NAMES)
+    names = value.values if isinstance(value, ast.Vector) and value.unit is None else ()
+    if not names or not all(isinstance(n, ast.NameElement) and not n.negative
+                            for n in names):
+        ctx.error("wrong-value", f"{what} expects a list of the world's axes", value.span,
+                  hint)
+        return
+    seen = set()
+    for element in names:
+        name = element.name
+        if name.text not in AXIS_NAMES:
+            lower = name.text.lower()
+            ctx.unknown("unknown-axis", "axis", name, AXIS_NAMES,
+                        f"did you mean '{lower}'?" if lower in AXIS_NAMES else hint)
+        elif name.text in seen:
+            ctx.error("wrong-value", f"{what} lists axis '{name.text}' twice", name.span,
+                      "list each axis once")
+        seen.add(name.text)
 
 
 def _check_switch(ctx: CheckContext, value: ast.Value, what: str) -> None:

@@ -30,19 +30,20 @@ def replace(node, **changes):
     return new
 
 
-def rebuild(node, visit: Callable):
+def rebuild(node, visit: Callable, keep: Callable | None = None):
     """``node`` rebuilt bottom-up: every child node (in fields and tuples) first, then
-    ``visit(node)`` on the node with its new children. Unchanged subtrees are kept."""
+    ``visit(node)`` on the node with its new children. Unchanged subtrees are kept, and
+    so are the nodes for which ``keep(node)`` holds, unvisited."""
     if isinstance(node, tuple):
-        items = tuple(rebuild(item, visit) for item in node)
+        items = tuple(rebuild(item, visit, keep) for item in node)
         return node if all(a is b for a, b in zip(items, node)) else items
-    if not isinstance(node, ast.Node):
+    if not isinstance(node, ast.Node) or (keep is not None and keep(node)):
         return node
     changes = {}
     for name in _children(type(node)):
         value = getattr(node, name)
         if isinstance(value, (ast.Node, tuple)):
-            new = rebuild(value, visit)
+            new = rebuild(value, visit, keep)
             if new is not value:
                 changes[name] = new
     return visit(replace(node, **changes) if changes else node)

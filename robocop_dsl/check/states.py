@@ -11,6 +11,7 @@ from .declarations import subject_of
 from .expand import instance_note
 from .assigned_limits import check_assigned_order
 from .parameters import check_body, check_value
+from .variables import check_log, check_set_var, declared_variables
 
 OUTCOMES = ("success", "failure")
 _DECLARE = ("declare it: task NAME: TYPE(SUBJECT) { ... } or constraint NAME: TYPE(...), "
@@ -21,13 +22,26 @@ DONE = "done"
 
 def check_machines(ctx: CheckContext, mission: ast.Mission) -> None:
     """The mission's machine and every machine inside it."""
+    ctx.mission_variables = declared_variables(ctx, mission.machine, {})
     check_machine(ctx, mission.machine, (), root=True)
 
 
 def check_machine(ctx: CheckContext, machine: ast.Machine, scope: tuple,
                   root: bool = False) -> None:
     """One machine: ``scope`` is the chain of enclosing machines' states (innermost
-    first), which clauses may read but never lead to."""
+    first), which clauses may read but never lead to. It sees the vars it declares and
+    those of the machines around it (the mission's own are declared once, before)."""
+    visible = ctx.variables
+    ctx.variables = (ctx.mission_variables if root
+                     else declared_variables(ctx, machine, visible))
+    try:
+        _check_machine(ctx, machine, scope, root)
+    finally:
+        ctx.variables = visible
+
+
+def _check_machine(ctx: CheckContext, machine: ast.Machine, scope: tuple,
+                   root: bool) -> None:
     local: dict[str, ast.StateDecl] = {}
     for state in machine.states:
         first = local.get(state.name.text)
@@ -117,12 +131,13 @@ def _check_region(ctx: CheckContext, state: ast.StateDecl, region: ast.Region,
                   "S.done already means: every region is in a final state")
     if region.machine is None:
         return
-    notes, owner = ctx.notes, ctx.owner
+    notes, owner, visible = ctx.notes, ctx.owner, ctx.variables
     if region.instance is not None:
         ctx.notes = (instance_note(ctx, region.instance), *notes)
+        ctx.variables = ctx.mission_variables
     ctx.owner = state.name.text + (f".{region.name.text}" if region.name else "")
     check_machine(ctx, region.machine, scope)
-    ctx.notes, ctx.owner = notes, owner
+    ctx.notes, ctx.owner, ctx.variables = notes, owner, visible
 
 
 def _check_final(ctx: CheckContext, state: ast.StateDecl, root: bool) -> None:
@@ -202,6 +217,10 @@ def check_action(ctx: CheckContext, action: ast.Action) -> tuple[float, ...] | N
                 ctx.unknown("unknown-task", "task", name, ctx.symbols.tasks)
     elif isinstance(action, ast.Assign):
         return _check_assign(ctx, action)
+    elif isinstance(action, ast.SetVar):
+        check_set_var(ctx, action)
+    elif isinstance(action, ast.Log):
+        check_log(ctx, action)
     elif isinstance(action, ast.Attach):
         if all([check_body(ctx, action.body), check_body(ctx, action.parent)]):
             if action.body.text == action.parent.text:
@@ -256,5 +275,9 @@ def _check_assign(ctx: CheckContext, action: ast.Assign) -> tuple[float, ...] | 
         return None
     if ctx.opaque(action.value):
         return None
-    return check_value(ctx, parameter, action.value, subject,
-                       f"'{owner}.{action.field.text}'")
+    ctx.in_target = action.field.text == "target"
+    try:
+        return check_value(ctx, parameter, action.value, subject,
+                           f"'{owner}.{action.field.text}'")
+    finally:
+        ctx.in_target = False

@@ -4,17 +4,18 @@ Targets by space: joint tasks take a vector of one value per joint (or ``current
 ``body_position`` a 3-vector [m], a body, ``BODY offset [x, y, z]`` or ``pose(position)``;
 ``body_orientation`` roll-pitch-yaw [rad], a body or ``pose(rpy)``; ``body_pose`` a body,
 an offset body or ``pose(position, rpy)``; ``body_velocity`` a 6-vector in SI (linear
-then angular); ``gaze`` a body, an offset body or a point [m]. ``current`` holds the
-value the task has when the target is set.
+then angular); ``gaze`` a body, an offset body or a point [m]; ``body_force`` a force
+[fx, fy, fz] in the world frame. ``current`` holds the value the task has when the
+target is set.
 """
 
 from __future__ import annotations
 
 from ..lang import ast
-from ..lang.catalogue import (GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE, ORIENTATION_SPACE,
-                              POSE_SPACE, POSITION, POSITION_SPACE, TWIST_SPACE, VELOCITY,
-                              Kind)
-from ..lang.units import ANGLE, LENGTH
+from ..lang.catalogue import (FORCE_SPACE, GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE,
+                              ORIENTATION_SPACE, POSE_SPACE, POSITION, POSITION_SPACE,
+                              TWIST_SPACE, VELOCITY, Kind)
+from ..lang.units import ANGLE, FORCE, LENGTH
 from .context import CheckContext, Joints
 from .values import check_offset, check_vector, space_dimensions
 
@@ -33,6 +34,7 @@ _FORMS = {
                 "rpy = [...] deg) or 'current'",
     TWIST_SPACE: "a velocity [vx, vy, vz, wx, wy, wz] in SI or 'current'",
     GAZE_SPACE: "a body, 'BODY offset [x, y, z] m', a point [x, y, z] m or 'current'",
+    FORCE_SPACE: "a force [fx, fy, fz] N in the world frame or 'current'",
 }
 _ALLOWED = {
     JOINT_SPACE: {ast.Vector}, JOINT_VELOCITY_SPACE: {ast.Vector},
@@ -41,6 +43,7 @@ _ALLOWED = {
     POSE_SPACE: {ast.Reference, ast.Offset, ast.Call},
     TWIST_SPACE: {ast.Vector},
     GAZE_SPACE: {ast.Vector, ast.Reference, ast.Offset},
+    FORCE_SPACE: {ast.Vector},
 }
 _POSE_PARTS = {POSITION_SPACE: ("position",), ORIENTATION_SPACE: ("rpy",),
                POSE_SPACE: POSE_ARGUMENTS}
@@ -74,7 +77,7 @@ def check_target(ctx: CheckContext, value: ast.Value, kind: Kind, joints: Joints
         else:
             check_vector(ctx, value, (LENGTH,), what, 6)
     else:
-        dimension = ANGLE if space == ORIENTATION_SPACE else LENGTH
+        dimension = {ORIENTATION_SPACE: ANGLE, FORCE_SPACE: FORCE}.get(space, LENGTH)
         check_vector(ctx, value, (dimension,), what, 3)
 
 

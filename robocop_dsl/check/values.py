@@ -7,11 +7,11 @@ Each ``check_*`` function reports what is wrong with a value and returns it in S
 from __future__ import annotations
 
 from ..lang import ast
-from ..lang.catalogue import (ACCELERATION, GAZE_SPACE, JERK, JOINT_SPACE,
+from ..lang.catalogue import (ACCELERATION, FORCE_SPACE, GAZE_SPACE, JERK, JOINT_SPACE,
                               JOINT_VELOCITY_SPACE, ORIENTATION_SPACE, POSITION, TWIST_SPACE,
                               VELOCITY)
 from ..lang.units import (ANGLE, ANGULAR_ACCELERATION, ANGULAR_JERK, ANGULAR_VELOCITY,
-                          DIMENSIONLESS, LENGTH, LINEAR_ACCELERATION, LINEAR_JERK,
+                          DIMENSIONLESS, FORCE, LENGTH, LINEAR_ACCELERATION, LINEAR_JERK,
                           LINEAR_VELOCITY, SI_SYMBOL, UNITS, describe, lookup)
 from .context import CheckContext, Joints, finite
 
@@ -24,9 +24,11 @@ _RATE_INDEX = {VELOCITY: 0, ACCELERATION: 1, JERK: 2}
 
 def space_dimensions(symbol: str, space: str | None, joints: Joints | None) -> tuple[str, ...]:
     """Turn ``POSITION`` or a rate (``VELOCITY``, ``ACCELERATION``, ``JERK``) into
-    dimensions for a space."""
+    dimensions for a space; a force task's ``POSITION`` is a force."""
     if symbol != POSITION and symbol not in _RATE_INDEX:
         return (symbol,)
+    if space == FORCE_SPACE and symbol == POSITION:
+        return (FORCE,)
     if space in (JOINT_SPACE, JOINT_VELOCITY_SPACE):
         positions = joints.position_dimensions if joints else (ANGLE, LENGTH)
     elif space in (ORIENTATION_SPACE, GAZE_SPACE):
@@ -92,8 +94,10 @@ def check_quantity(ctx: CheckContext, quantity: ast.Quantity, dimensions: tuple[
 def check_vector(ctx: CheckContext, vector: ast.Vector, dimensions: tuple[str, ...], what: str,
                  length: int | None) -> tuple[float, ...] | None:
     """A vector of ``length`` values (any when ``None``) of one of ``dimensions``, in SI;
-    ``None`` for a vector with a name left unbound (reported where it was bound)."""
+    ``None`` for a vector with a name left unbound (reported where it was bound) or
+    holding vars (checked here: only a target may hold them)."""
     if not all(isinstance(v, float) for v in vector.values):
+        _check_var_elements(ctx, vector, dimensions, what)
         return None
     unit = unit_of(ctx, vector.unit)
     if unit is False:
@@ -109,6 +113,31 @@ def check_vector(ctx: CheckContext, vector: ast.Vector, dimensions: tuple[str, .
         ctx.error("bad-number", f"{what} has a value too large", vector.span)
         return None
     return vector_to_si(vector)
+
+
+def _check_var_elements(ctx: CheckContext, vector: ast.Vector, dimensions: tuple[str, ...],
+                        what: str) -> None:
+    """The vars a vector holds: visible, one number of one of ``dimensions``, in a
+    target set by an action."""
+    from .variables import NAMED, describe as describe_value
+
+    wanted = {NAMED[d] for d in dimensions if d in NAMED}
+    for element in vector.values:
+        if not isinstance(element, ast.NameElement) or element.name.text in ctx.generic \
+                or element.name.text not in ctx.all_variables:
+            continue
+        info = ctx.variables.get(element.name.text)
+        if not ctx.in_target:
+            ctx.error("wrong-value", f"{what} cannot hold the var '{element.name.text}'",
+                      element.name.span, "a var is read in a target set by an action, a "
+                      "condition, an assignment or a log; a declaration takes constants")
+        elif info is None:
+            ctx.unknown("unknown-var", "var", element.name, ctx.variables,
+                        "declare it: var NAME: KIND = VALUE")
+        elif info.typed.size != 1 or info.typed.dimension not in wanted:
+            ctx.error("wrong-dimension", f"{what} holds {describe(dimensions)}, "
+                      f"not {describe_value(info.typed.dimension, info.typed.size)} like "
+                      f"'{element.name.text}'", element.name.span, "use a var of that kind")
 
 
 def check_offset(ctx: CheckContext, offset: ast.Offset) -> tuple[float, ...] | None:

@@ -20,6 +20,7 @@ from ..lang.catalogue import (AXES, BODY, COLLISION_SETS, CONSTRAINTS, FEEDBACKS
                               SCALAR, SPACE_AXES, SWITCH, TASKS, Kind, Registry)
 from ..lang.formatter import format_condition
 from . import spec
+from . import variables as v
 from .state_graph import join, machine_start, region_machine
 from .tolerance import tolerance_spec
 
@@ -44,7 +45,12 @@ def compile_mission(mission: ast.Mission, source: SourceFile, world, world_path:
     return spec.MissionSpec(
         name=header.name.text, description=header.description, world_path=world_path,
         controller=controllers[0], constraints=constraints, tasks=tasks, machine=machine,
-        events=events, graph=graph, source=source, controllers=tuple(controllers))
+        events=events, graph=graph, source=source, controllers=tuple(controllers),
+        variables=tuple(converter.variables))
+
+
+TASK_OPTIONS = ("axes", "max_velocity")
+"""Parameters some task types have of their own, passed to the task as they are."""
 
 
 def _parameters(decl) -> dict[str, ast.Value]:
@@ -80,7 +86,9 @@ def _task(decl: ast.TaskDecl, names: WorldNames, controller: str) -> spec.TaskSp
         gain=convert(gain, PER_AXIS, dofs) if gain is not None else None,
         dofs=dofs, span=decl.span, controller=controller,
         tolerance=tolerance_spec(given.get("tolerance"), kind.space, joints),
-        enabled=convert(enabled, SWITCH, dofs) if enabled is not None else False)
+        enabled=convert(enabled, SWITCH, dofs) if enabled is not None else False,
+        options={p.name: convert(given[p.name], p.kind, dofs) if p.name in given
+                 else p.default for p in kind.parameters if p.name in TASK_OPTIONS})
 
 
 def _constraint(decl: ast.ConstraintDecl, names: WorldNames,
@@ -152,8 +160,10 @@ def _call(value: ast.Value | None, registry: Registry, default: str, dofs: int):
     return kind.name, result
 
 
-def target_spec(value: ast.Value | None, kind: Kind, dofs: int) -> spec.TargetSpec:
-    """The spec of a checked target value for a task of type ``kind``."""
+def target_spec(value: ast.Value | None, kind: Kind, dofs: int,
+                vector_to_si=vector_to_si) -> spec.TargetSpec:
+    """The spec of a checked target value for a task of type ``kind``; ``vector_to_si``
+    converts its vectors (an action's may hold vars)."""
     if value is None or (isinstance(value, ast.Reference) and value.name.text == "current"):
         return spec.CurrentTarget()
     if isinstance(value, ast.Reference):
@@ -182,19 +192,31 @@ class _Converter:
         self.constraints = {d.name.text: d for d in mission.constraints}
         self.names = names
         self.emitted: set[str] = set()
+        self.variables: list[v.VarSpec] = []
+        self.vars = v.VarScope()
+        self.mission_vars = v.VarScope()
 
     def machine(self, machine: ast.Machine, path: str, region: str | None,
-                scope: tuple) -> spec.MachineSpec:
+                scope: tuple, instance: bool = False) -> spec.MachineSpec:
         prefix = path
         local = {s.name.text: (join(prefix, s.name.text), s) for s in machine.states}
         scope = (local, *scope)
-        states = {name: self.state(decl, state_path, scope)
-                  for name, (state_path, decl) in local.items()}
-        guards = tuple(self.transition(g, True, scope) for g in machine.guards)
+        outer = self.vars
+        self.vars = self.vars.inner(machine, path, self.mission_vars if instance else outer)
+        if not path:
+            self.mission_vars = self.vars
+        try:
+            self.variables += v.var_specs(machine, path, self.vars,
+                                          lambda node: self.measure(node, scope))
+            states = {name: self.state(decl, state_path, scope)
+                      for name, (state_path, decl) in local.items()}
+            guards = tuple(self.transition(g, True, scope) for g in machine.guards)
+        finally:
+            self.vars = outer
         return spec.MachineSpec(path, states, machine_start(machine), guards, region)
 
     def state(self, state: ast.StateDecl, path: str, scope: tuple) -> spec.StateSpec:
-        blocks = {kind: tuple(self.action(a) for a in block.actions) if block else ()
+        blocks = {kind: tuple(self.action(a, scope) for a in block.actions) if block else ()
                   for kind in ("enter", "during", "exit")
                   for block in (state.block(kind),)}
         transitions = () if state.final else tuple(
@@ -202,7 +224,7 @@ class _Converter:
         outcome = (state.outcome.text if state.outcome else "success") if state.final else None
         machines = tuple(
             self.machine(region_machine(r), join(path, r.name.text) if r.name else path,
-                         r.name.text if r.name else None, scope)
+                         r.name.text if r.name else None, scope, r.instance is not None)
             for r in state.regions)
         return spec.StateSpec(state.name.text, blocks["enter"], blocks["during"],
                               blocks["exit"], transitions, state.final, outcome, state.span,
@@ -214,9 +236,9 @@ class _Converter:
                                    transition.target.text,
                                    format_condition(transition.condition), guard,
                                    transition.span,
-                                   tuple(self.action(a) for a in transition.actions))
+                                   tuple(self.action(a, scope) for a in transition.actions))
 
-    def action(self, action: ast.Action) -> spec.ActionSpec:
+    def action(self, action: ast.Action, scope: tuple) -> spec.ActionSpec:
         span = action.span
         if isinstance(action, ast.Enable):
             return spec.EnableAction(tuple(n.text for n in action.names), span)
@@ -233,7 +255,12 @@ class _Converter:
         if isinstance(action, ast.Emit):
             self.emitted.add(action.event.text)
             return spec.EmitAction(action.event.text, span)
-        return spec.LogAction(action.text, span)
+        if isinstance(action, ast.SetVar):
+            return v.SetVarAction(self.vars[action.name.text],
+                                  v.expression(action.value, self.vars,
+                                               lambda node: self.measure(node, scope)), span)
+        units = {var.name: var.unit for var in self.variables}
+        return spec.LogAction(action.text, span, v.log_fields(action.text, self.vars, units))
 
     def _assign(self, action: ast.Assign) -> spec.ActionSpec:
         owner = action.owner.text
@@ -242,11 +269,20 @@ class _Converter:
         kind, _, joints = _subject(decl, self.names, registry)
         if action.field.text == "target":
             dofs = joints.dofs if joints else SPACE_AXES[kind.space]
-            return spec.SetTargetAction(owner, target_spec(action.value, kind, dofs),
-                                        action.span)
+            return spec.SetTargetAction(owner, target_spec(action.value, kind, dofs,
+                                                           self._vector), action.span)
         parameter = kind.parameter(action.field.text)
         value = convert(action.value, parameter.kind, joints.dofs if joints else 1)
         return spec.SetParameterAction(owner, parameter.name, value, action.span)
+
+    def _vector(self, vector: ast.Vector) -> tuple:
+        """A target's vector in SI, its vars as :class:`~.variables.VarValue`."""
+        scale = vector_to_si(ast.Vector((1.0,), vector.unit))[0]
+        return tuple(v.VarValue(self.vars[e.name.text]) if isinstance(e, ast.NameElement)
+                     and not e.negative else
+                     v.Negated(v.VarValue(self.vars[e.name.text]))
+                     if isinstance(e, ast.NameElement) else e * scale
+                     for e in vector.values)
 
     def condition(self, condition: ast.Condition, scope: tuple) -> spec.ConditionSpec:
         if isinstance(condition, ast.Or):
@@ -259,9 +295,14 @@ class _Converter:
             return spec.NotCondition(self.condition(condition.operand, scope))
         if isinstance(condition, ast.EventCondition):
             return spec.EventCondition(condition.event.text)
+        if isinstance(condition, ast.Contact):
+            return v.ContactCondition(condition.first.text, condition.second.text)
         if isinstance(condition, ast.Comparison):
-            return spec.CompareCondition(self.measure(condition.measure, scope),
-                                         condition.operator, to_si(condition.quantity))
+            value = condition.quantity
+            return spec.CompareCondition(
+                self.measure(condition.measure, scope), condition.operator,
+                v.VarValue(self.vars[value.name.text]) if isinstance(value, ast.Reference)
+                else to_si(value))
         if condition.owner.text == "controller":
             return spec.ControllerFailedCondition()
         state = state_in_scope(scope, condition)
@@ -283,6 +324,13 @@ class _Converter:
             return spec.ClearanceMeasure(measure.first.text, measure.second.text)
         if isinstance(measure, ast.Distance):
             return spec.DistanceMeasure(measure.first.text, measure.second.text)
+        if isinstance(measure, ast.Wrench):
+            return v.wrench(measure)
+        if isinstance(measure, ast.Variable):
+            return v.VarValue(self.vars[measure.name.text])
+        position = v.body_position(measure)
+        if position is not None and measure.owner.text not in self.tasks:
+            return position
         state = state_in_scope(scope, measure)
         if state is not None:
             return spec.VisitsMeasure(state)

@@ -82,7 +82,9 @@ class TaskSpec:
     running; ``priority`` 0 is the highest level. ``controller`` is the qp_controller
     processor that runs it. ``tolerance`` tells when it counts as reached [SI]: one per
     dof for joint tasks, one per part for body tasks (position then orientation, linear
-    then angular); ``enabled`` whether it is active from the start."""
+    then angular); ``enabled`` whether it is active from the start; ``options`` the
+    parameters of its own type (a ``body_force`` task's ``axes`` and ``max_velocity``),
+    in SI."""
 
     name: str
     type: str
@@ -100,6 +102,7 @@ class TaskSpec:
     controller: str | None = None
     tolerance: tuple[float, ...] = ()
     enabled: bool = False
+    options: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -187,8 +190,12 @@ class EmitAction:
 
 @dataclass(frozen=True)
 class LogAction:
+    """``log TEXT``; ``fields`` are the vars its ``{NAME}`` print
+    (:class:`~robocop_dsl.compile.variables.LogField`)."""
+
     text: str
     span: Span = field(compare=False)
+    fields: tuple = ()
 
 
 ActionSpec = Union[EnableAction, DisableAction, ResetAction, SetTargetAction,
@@ -266,11 +273,12 @@ MeasureSpec = Union[TaskMeasure, ElapsedMeasure, TimeMeasure, DistanceMeasure,
 
 @dataclass(frozen=True)
 class CompareCondition:
-    """``measure operator value``; ``operator`` is ``<``, ``<=``, ``>`` or ``>=``, value SI."""
+    """``measure operator value``; ``operator`` is ``<``, ``<=``, ``>`` or ``>=``, value SI
+    (a number, or a var's :class:`~robocop_dsl.compile.variables.VarValue`)."""
 
     measure: MeasureSpec
     operator: str
-    value: float
+    value: object
 
 
 @dataclass(frozen=True)
@@ -416,6 +424,9 @@ class MissionSpec:
     graph: nx.DiGraph = field(compare=False, repr=False)
     source: SourceFile = field(compare=False, repr=False)
     controllers: tuple[str, ...] = ()
+    variables: tuple = ()
+    """The vars (:class:`~robocop_dsl.compile.variables.VarSpec`), one per instance of a
+    behaviour that declares one."""
 
     @property
     def cascaded(self) -> bool:

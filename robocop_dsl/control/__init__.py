@@ -21,11 +21,11 @@ from .results import ControlResult, LevelResult, Timings
 from .solvers import QPSolver, QuadraticProgram, available_solvers, make_solver
 from .spatial import CURRENT, BodyTarget
 from .state import ControlState
-from .tasks import (TASKS, BodyOrientationTask, BodyPoseTask, BodyPositionTask, BodyVelocityTask,
-                    JointPositionTask, JointVelocityTask, Task, TaskSample)
+from .tasks import (TASKS, BodyForceTask, BodyOrientationTask, BodyPoseTask, BodyPositionTask,
+                    BodyVelocityTask, JointPositionTask, JointVelocityTask, Task, TaskSample)
 
 __all__ = [
-    "BodyOrientationTask", "BodyPoseTask", "BodyPositionTask", "BodyTarget",
+    "BodyForceTask", "BodyOrientationTask", "BodyPoseTask", "BodyPositionTask", "BodyTarget",
     "BodyVelocityConstraint", "BodyVelocityTask", "CONSTRAINTS", "CURRENT", "Constraint",
     "ControlError", "ControlResult", "ControlState", "Controller", "CubicInterpolator",
     "DuplicateName", "FEEDBACK_LOOPS", "FeedbackLoop", "HIERARCHIES", "INTERPOLATORS",

@@ -131,6 +131,18 @@ class Controller:
         return self.state.group
 
     @property
+    def sensors(self):
+        """Where force tasks read their body's wrench: an object with ``wrench(body) ->
+        [fx, fy, fz, tx, ty, tz]`` [N, N m], what the body exerts on the environment in
+        the world frame (a runner gives its
+        :class:`~robocop_dsl.runtime.sensors.Sensors`); ``None`` until set."""
+        return self.state.sensors
+
+    @sensors.setter
+    def sensors(self, sensors) -> None:
+        self.state.sensors = sensors
+
+    @property
     def limits(self) -> JointLimits | None:
         """The joint limits table of the latest cycle (the world's met with the enabled
         ``joint_kinematic`` constraints'), ``None`` before the first cycle."""
@@ -149,7 +161,8 @@ class Controller:
 
         Args:
             kind: ``joint_position``, ``joint_velocity``, ``body_position``,
-                ``body_orientation``, ``body_pose`` or ``body_velocity``.
+                ``body_orientation``, ``body_pose``, ``body_velocity``, ``gaze`` or
+                ``body_force`` (which reads :attr:`sensors`).
             name: Unique task name.
             body_or_group: The body (body tasks) or joint group (joint tasks).
             **parameters: ``target``, ``reference``, ``interpolator``, ``feedback``,
@@ -268,7 +281,7 @@ class Controller:
             jacobian[rows] = task_jacobian
             velocity[rows] = task_velocity
             weight[rows] = task_weight
-            if task.order == 0:
+            if task.positional:
                 error = task.tracking_error
                 squared_errors[index] = error.dot(error * task_weight)
             objectives.append(Objective(task.name, task_jacobian, task_velocity, task_weight))

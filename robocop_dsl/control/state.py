@@ -50,6 +50,10 @@ class ControlState:
         met with the enabled ``joint_kinematic`` constraints' (set by the controller)."""
         self.revision = 0
         """Bumped whenever the QP's structure may change (enabling, priorities...)."""
+        self.sensors = None
+        """Where force tasks read the wrench a body exerts on the environment: an
+        object with ``wrench(body) -> [fx, fy, fz, tx, ty, tz]`` [N, N m] (world frame),
+        updated before each cycle; ``None`` when nothing measures forces."""
         self._jacobians: dict[tuple[int, int], np.ndarray] = {}
         self._stamp = -1
         self._positions = np.zeros(self.dofs)

@@ -37,6 +37,8 @@ class ThreadedDriver:
         connect_timeout: Longest wait for the first state in ``connect()`` [s].
         initial: Configuration (nq) used outside the group; defaults to the world's
             ``initial:``.
+        sensors: The bodies of the force sensors whose wrenches the robot side
+            publishes with each state.
     """
 
     realtime = True
@@ -44,7 +46,7 @@ class ThreadedDriver:
 
     def __init__(self, world, joint_group: str, state_timeout: float = DEFAULT_STATE_TIMEOUT,
                  connect_timeout: float = DEFAULT_CONNECT_TIMEOUT,
-                 initial: np.ndarray | None = None):
+                 initial: np.ndarray | None = None, sensors: tuple = ()):
         self.world = world
         self.model = world.model
         self.group = world.joint_group(joint_group)
@@ -52,8 +54,9 @@ class ThreadedDriver:
         self.connect_timeout = float(connect_timeout)
         self.initial = np.array(world.initial_configuration() if initial is None else initial,
                                 dtype=float)
+        self.sensors = tuple(sensors)
         self.reader = AsyncWorldReader(self.group)
-        self.writer = AsyncWorldWriter(self.group)
+        self.writer = AsyncWorldWriter(self.group, wrenches=len(self.sensors))
         self.last_state: JointState | None = None
         self._q = self.initial.copy()
         self._v = np.zeros(self.model.nv)
@@ -157,9 +160,11 @@ class ThreadedDriver:
             self._fault = self._describe(error)
             self._first_state.set()
 
-    def _publish(self, position, velocity, holding: bool, stamp: float) -> None:
-        """Publish a state from the driver thread and release a waiting ``connect()``."""
-        self.writer.sync(position, velocity, holding, stamp)
+    def _publish(self, position, velocity, holding: bool, stamp: float,
+                 wrenches=()) -> None:
+        """Publish a state (and the wrench of each of :attr:`sensors`) from the driver
+        thread and release a waiting ``connect()``."""
+        self.writer.sync(position, velocity, holding, stamp, wrenches)
         self._first_state.set()
 
     def _describe(self, error: Exception) -> str:

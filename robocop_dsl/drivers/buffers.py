@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import threading
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -36,6 +36,9 @@ class JointState:
             a continuous joint has two) [rad or m].
         velocity: The group's joint velocities (``group.dofs``) [rad/s or m/s].
         holding: Whether the driver was holding (no fresh command) in that cycle.
+        wrenches: One ``[fx, fy, fz, tx, ty, tz]`` [N, N m] per force sensor the robot
+            reports (what its body exerts on the environment, world frame); none when
+            it reports none.
     """
 
     sequence: int
@@ -43,6 +46,7 @@ class JointState:
     position: np.ndarray
     velocity: np.ndarray
     holding: bool = False
+    wrenches: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
 
 
 @dataclass(frozen=True)
@@ -180,14 +184,16 @@ class AsyncWorldWriter:
     Args:
         group: The driven :class:`~robocop_dsl.world.world.JointGroup`.
         clock: Time source [s] for the state stamps.
+        wrenches: How many force sensors' wrenches each state carries.
     """
 
-    def __init__(self, group, clock=time.monotonic):
+    def __init__(self, group, clock=time.monotonic, wrenches: int = 0):
         self.group = group
         self._clock = clock
         self._nq = len(group.q_indices)
+        self.wrenches = wrenches
         self._buffer = _DoubleBuffer({"position": self._nq, "velocity": group.dofs,
-                                      "holding": 1})
+                                      "holding": 1, "wrenches": 6 * wrenches})
         self._owner = _ThreadSide()
         self._driver = _ThreadSide()
         self._sequence = 0
@@ -196,7 +202,7 @@ class AsyncWorldWriter:
         return f"AsyncWorldWriter({self.group.name}, {self.group.dofs} dofs)"
 
     def sync(self, position, velocity, holding: bool = False,
-             stamp: float | None = None) -> int:
+             stamp: float | None = None, wrenches=()) -> int:
         """Publish the robot's latest state; driver thread only.
 
         Args:
@@ -204,6 +210,7 @@ class AsyncWorldWriter:
             velocity: The group's joint velocities (``group.dofs``) [rad/s or m/s].
             holding: Whether the driver is holding for lack of a fresh command.
             stamp: When it was measured [s]; defaults to now.
+            wrenches: The force sensors' wrenches (:attr:`wrenches` x 6) [N, N m].
 
         Returns:
             The state's sequence number.
@@ -211,7 +218,9 @@ class AsyncWorldWriter:
         self._driver.check(repr(self), "sync")
         values = {"position": _vector(position, self._nq, "position", repr(self)),
                   "velocity": _vector(velocity, self.group.dofs, "velocity", repr(self)),
-                  "holding": float(holding)}
+                  "holding": float(holding),
+                  "wrenches": _vector(np.ravel(wrenches), 6 * self.wrenches, "wrenches",
+                                      repr(self))}
         self._sequence += 1
         self._buffer.publish(values, (self._sequence, self._clock() if stamp is None
                                       else stamp))
@@ -236,7 +245,8 @@ class AsyncWorldWriter:
         q[self.group.q_indices] = arrays["position"]
         v[self.group.v_indices] = arrays["velocity"]
         return JointState(sequence, stamp, _frozen(arrays["position"]),
-                          _frozen(arrays["velocity"]), bool(arrays["holding"][0]))
+                          _frozen(arrays["velocity"]), bool(arrays["holding"][0]),
+                          _frozen(arrays["wrenches"].reshape(-1, 6)))
 
     def release_sync(self) -> None:
         """Let another driver thread call :meth:`sync` (after the previous one ended)."""

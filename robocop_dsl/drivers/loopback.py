@@ -2,7 +2,8 @@
 
 It is how a real robot driver plugs in: a driver thread keeps the connection, turns
 the robot's ``STATE`` frames into states for the world and the controller's commands
-into ``COMMAND`` frames; the controller thread only copies.
+into ``COMMAND`` frames; the controller thread only copies. The world's force sensors
+are read from the robot: it must report each of them.
 """
 
 from __future__ import annotations
@@ -35,14 +36,18 @@ class LoopbackDriver(ThreadedDriver):
             ``disconnect()``.
         rate: Cycle rate of a launched simulator [Hz].
         command_timeout: Command timeout of a launched simulator [s].
+        sensors: The bodies whose wrenches the robot must report; default those of the
+            world's force sensors.
         **kwargs: ``state_timeout``, ``connect_timeout``, ``initial`` of
             :class:`~robocop_dsl.drivers.base.ThreadedDriver`.
     """
 
     def __init__(self, world, joint_group: str, port: int | None = None,
                  launch: bool = False, rate: float = 1000.0,
-                 command_timeout: float = DEFAULT_COMMAND_TIMEOUT, **kwargs):
-        super().__init__(world, joint_group, **kwargs)
+                 command_timeout: float = DEFAULT_COMMAND_TIMEOUT,
+                 sensors: tuple | None = None, **kwargs):
+        super().__init__(world, joint_group, sensors=tuple(
+            world.force_sensors() if sensors is None else sensors), **kwargs)
         self.port = port
         self.launch = launch
         self.rate = float(rate)
@@ -80,12 +85,34 @@ class LoopbackDriver(ThreadedDriver):
             connection.close()
             raise DriverFault(repr(self), f"the robot drives {list(self.hello.joints)}, "
                                           f"not the group's {list(self.group.joints)}")
+        missing = [body for body in self.sensors if body not in self.hello.sensors]
+        if missing:
+            connection.close()
+            raise DriverFault(repr(self), f"the robot reports no wrench of "
+                                          f"{', '.join(missing)} (a force sensor of the "
+                                          f"world); it reports: "
+                                          f"{', '.join(self.hello.sensors) or 'none'}")
         sock.settimeout(self.state_timeout)
         return connection
 
+    def wrench(self, body: str) -> np.ndarray:
+        """The wrench the robot reported in its latest state for the force sensor on
+        ``body``: ``[fx, fy, fz, tx, ty, tz]`` [N, N m], what the body exerts on the
+        environment, world frame.
+
+        Raises:
+            DriverFault: ``body`` is not one of :attr:`sensors`, or no state was read.
+        """
+        if body not in self.sensors or self.last_state is None:
+            raise DriverFault(repr(self), f"no wrench of '{body}' read from the robot "
+                                          f"(its force sensors: "
+                                          f"{', '.join(self.sensors) or 'none'})")
+        return self.last_state.wrenches[self.sensors.index(body)].copy()
+
     def _serve(self) -> None:
         connection = self._connection
-        nq, nv = self.hello.nq, self.hello.nv
+        nq, nv, reported = self.hello.nq, self.hello.nv, len(self.hello.sensors)
+        mine = [self.hello.sensors.index(body) for body in self.sensors]
         sent, sequence = 0, -1
         while not self._stop.is_set():
             message = connection.receive()
@@ -95,8 +122,10 @@ class LoopbackDriver(ThreadedDriver):
                         f"STATE sequence number {message.sequence} does not advance past "
                         f"the previous one ({sequence}): the robot's state is stale")
                 sequence = message.sequence
-                position, velocity, holding = protocol.decode_state(message, nq, nv)
-                self._publish(position, velocity, holding, time.monotonic())
+                position, velocity, holding = protocol.decode_state(message, nq, nv,
+                                                                    reported)
+                wrenches = protocol.decode_wrenches(message, nq, nv, reported)[mine]
+                self._publish(position, velocity, holding, time.monotonic(), wrenches)
             command = self.reader.sync()
             if command is not None and command.sequence != sent:
                 connection.send(protocol.COMMAND, command.sequence, command.time,

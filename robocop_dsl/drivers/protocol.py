@@ -6,7 +6,9 @@ Every frame is a 24-byte header followed by a payload, all little-endian (see
     magic "RC" | version u8 | kind u8 | payload length u32 | sequence u64 | time f64
 
 Kinds: ``HELLO`` (robot -> driver, once, on connection), ``STATE`` (robot -> driver,
-every robot cycle), ``COMMAND`` (driver -> robot, every controller cycle).
+every robot cycle), ``COMMAND`` (driver -> robot, every controller cycle). A robot with
+force sensors names their bodies in its ``HELLO`` and appends one wrench per sensor to
+each ``STATE``; one without sends neither, as before.
 """
 
 from __future__ import annotations
@@ -27,6 +29,8 @@ HEADER = struct.Struct("<2sBBIQd")
 _HELLO_FIELDS = struct.Struct("<HHd")
 _MAX_PAYLOAD = 1 << 20
 HOST = "127.0.0.1"
+WRENCH = 6
+"""Numbers of a wrench: force [N] then torque [N m], x, y, z."""
 
 
 class ProtocolError(RobocopError):
@@ -53,12 +57,15 @@ class Hello:
         nv: Number of joint velocities (dofs).
         period: Its cycle [s].
         joints: Joint names, in coordinate order.
+        sensors: The bodies of its force sensors, in the order of the wrenches of each
+            ``STATE`` (none: its states carry no wrench).
     """
 
     nq: int
     nv: int
     period: float
     joints: tuple
+    sensors: tuple = ()
 
 
 def encode(kind: int, sequence: int, time: float, payload: bytes) -> bytes:
@@ -67,29 +74,46 @@ def encode(kind: int, sequence: int, time: float, payload: bytes) -> bytes:
 
 
 def hello_payload(hello: Hello) -> bytes:
-    return _HELLO_FIELDS.pack(hello.nq, hello.nv, hello.period) + "\n".join(
-        hello.joints).encode("utf-8")
+    names = "\n".join(hello.joints)
+    if hello.sensors:
+        names += "\0" + "\n".join(hello.sensors)
+    return _HELLO_FIELDS.pack(hello.nq, hello.nv, hello.period) + names.encode("utf-8")
 
 
 def decode_hello(message: Message) -> Hello:
     nq, nv, period = _HELLO_FIELDS.unpack_from(message.payload)
-    names = message.payload[_HELLO_FIELDS.size:].decode("utf-8")
-    return Hello(nq, nv, period, tuple(names.split("\n")) if names else ())
+    text = message.payload[_HELLO_FIELDS.size:].decode("utf-8")
+    joints, _, sensors = text.partition("\0")
+    return Hello(nq, nv, period, tuple(joints.split("\n")) if joints else (),
+                 tuple(sensors.split("\n")) if sensors else ())
 
 
-def state_payload(position: np.ndarray, velocity: np.ndarray, holding: bool) -> bytes:
+def state_payload(position: np.ndarray, velocity: np.ndarray, holding: bool,
+                  wrenches=()) -> bytes:
+    """A STATE's payload; ``wrenches``: one ``[fx, fy, fz, tx, ty, tz]`` [N, N m] per
+    force sensor the robot announced."""
     return (np.asarray(position, "<f8").tobytes() + np.asarray(velocity, "<f8").tobytes()
-            + bytes([1 if holding else 0]))
+            + bytes([1 if holding else 0]) + np.asarray(wrenches, "<f8").tobytes())
 
 
-def decode_state(message: Message, nq: int, nv: int) -> tuple:
-    """``(position (nq) [rad or m], velocity (nv) [rad/s or m/s], holding)``."""
-    expected = 8 * (nq + nv) + 1
+def decode_state(message: Message, nq: int, nv: int, sensors: int = 0) -> tuple:
+    """``(position (nq) [rad or m], velocity (nv) [rad/s or m/s], holding)`` of a STATE
+    from a robot that announced ``sensors`` force sensors."""
+    expected = 8 * (nq + nv) + 1 + 8 * WRENCH * sensors
     if len(message.payload) != expected:
         raise ProtocolError(f"STATE payload has {len(message.payload)} bytes, "
                             f"expected {expected}")
     values = np.frombuffer(message.payload, "<f8", nq + nv).astype(float)
-    return values[:nq], values[nq:], bool(message.payload[-1])
+    return values[:nq], values[nq:], bool(message.payload[8 * (nq + nv)])
+
+
+def decode_wrenches(message: Message, nq: int, nv: int, sensors: int) -> np.ndarray:
+    """The wrenches (``sensors`` x 6) [N, N m] of a STATE that :func:`decode_state`
+    accepted: one per announced force sensor, what its body exerts on the environment,
+    world frame, torque about the body's origin."""
+    start = 8 * (nq + nv) + 1
+    return np.frombuffer(message.payload, "<f8", WRENCH * sensors,
+                         start).astype(float).reshape(sensors, WRENCH)
 
 
 def command_payload(velocity: np.ndarray) -> bytes:

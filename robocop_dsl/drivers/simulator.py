@@ -6,7 +6,9 @@ picks a free port). It listens on 127.0.0.1 only, prints one line
 at a time with the frames of :mod:`robocop_dsl.drivers.protocol`: a ``HELLO`` on
 connection, then a ``STATE`` every cycle. It integrates the latest ``COMMAND`` like a
 perfect velocity-controlled robot and holds (zero velocity) when the command is older
-than the command timeout or the driver is gone. Its state outlives connections.
+than the command timeout or the driver is gone. Its state outlives connections. It
+reports a wrench for each force sensor of its world: zero (it touches nothing) unless
+set in :attr:`RobotSimulator.wrenches`.
 
 Like a real robot it protects itself: a command with a non-finite value is refused
 (the robot holds and says so), velocities are clamped to the URDF's limits, and a
@@ -49,6 +51,8 @@ class RobotSimulator:
     Attributes:
         refused: How many commands were refused for a non-finite value.
         clamped: How many commands had a velocity above the URDF's limit.
+        wrenches: The wrench each force sensor of the world reports, by body:
+            ``[fx, fy, fz, tx, ty, tz]`` [N, N m] (zero; change it in place).
     """
 
     def __init__(self, world, joint_group: str, period: float = DEFAULT_PERIOD,
@@ -64,11 +68,12 @@ class RobotSimulator:
         self.sequence = 0
         self.refused = 0
         self.clamped = 0
+        self.wrenches = {body: np.zeros(protocol.WRENCH) for body in world.force_sensors()}
 
     def hello(self) -> protocol.Hello:
         """What the robot tells a driver on connection."""
         return protocol.Hello(len(self.group.q_indices), self.group.dofs, self.period,
-                              self.group.joints)
+                              self.group.joints, tuple(self.wrenches))
 
     def serve(self, server: socket.socket, once: bool = False, log=print) -> None:
         """Accept drivers one after the other; stop after the first if ``once``."""
@@ -109,7 +114,8 @@ class RobotSimulator:
                 velocity[self.group.v_indices] = 0.0 if holding else command
                 self.sequence += 1
                 connection.send(protocol.STATE, self.sequence, now, protocol.state_payload(
-                    self.q[self.group.q_indices], velocity[self.group.v_indices], holding))
+                    self.q[self.group.q_indices], velocity[self.group.v_indices], holding,
+                    list(self.wrenches.values())))
         except (OSError, protocol.ProtocolError) as error:
             return str(error) or type(error).__name__
 

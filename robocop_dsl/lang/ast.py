@@ -145,7 +145,52 @@ class Clearance(Distance):
     body, or a joint group for every body its joints move) [m]."""
 
 
-Measure = Union[Member, Elapsed, Time, Distance, Clearance]
+Measure = Union[Member, Elapsed, Time, Distance, Clearance, "Wrench", "Variable"]
+
+
+@dataclass(frozen=True)
+class Wrench(Node):
+    """``force(BODY)`` or ``torque(BODY)`` [N, N m], the norm or, with ``axis``, one
+    world component, of what the body exerts on the environment (its force sensor)."""
+
+    torque: bool
+    body: Name
+    axis: Name | None = None
+
+
+@dataclass(frozen=True)
+class Variable(Node):
+    """A bare name read as a value: a ``var`` (or, in an expression, a constant)."""
+
+    name: Name
+
+
+@dataclass(frozen=True)
+class Contact(Node):
+    """``contact(A, B)``: whether the physics has a contact between two bodies or sets."""
+
+    first: Name
+    second: Name
+
+
+@dataclass(frozen=True)
+class Binary(Node):
+    """``LEFT OP RIGHT`` with ``OP`` one of ``+ - * /``."""
+
+    operator: str
+    left: "Expression"
+    right: "Expression"
+
+
+@dataclass(frozen=True)
+class Negative(Node):
+    """``-OPERAND``."""
+
+    operand: "Expression"
+
+
+Expression = Union[Quantity, "Variable", "Member", "Wrench", "Distance", "Elapsed", "Time",
+                   Binary, Negative]
 
 
 @dataclass(frozen=True)
@@ -180,7 +225,7 @@ class Or(Node):
     operands: tuple["Condition", ...]
 
 
-Condition = Union[Member, Comparison, EventCondition, Not, And, Or]
+Condition = Union[Member, Comparison, EventCondition, Contact, Not, And, Or]
 
 
 # ---- actions -----------------------------------------------------------------------
@@ -212,6 +257,14 @@ class Assign(Node):
 
 
 @dataclass(frozen=True)
+class SetVar(Node):
+    """``NAME = EXPRESSION``: a new value for a ``var``."""
+
+    name: Name
+    value: Expression
+
+
+@dataclass(frozen=True)
 class Attach(Node):
     """``attach BODY to PARENT``: the body moves rigidly with the parent from now on."""
 
@@ -234,7 +287,7 @@ class Log(Node):
     text: str
 
 
-Action = Union[Enable, Disable, Reset, Assign, Attach, Detach, Emit, Log]
+Action = Union[Enable, Disable, Reset, Assign, SetVar, Attach, Detach, Emit, Log]
 
 
 # ---- declarations ------------------------------------------------------------------
@@ -322,12 +375,27 @@ class Instance(Node):
 
 
 @dataclass(frozen=True)
+class VarDecl(Node):
+    """``var NAME: KIND [= EXPRESSION]``: a value that changes at run time, of a kind
+    (``count``, ``scalar``, ``position`` or a dimension such as ``length``); one per
+    behaviour instance when a behaviour declares it."""
+
+    name: Name
+    kind: Name
+    value: Expression | None = None
+
+
+@dataclass(frozen=True)
 class Machine(Node):
     """A state machine's body: states and finals, an optional ``start`` and its own
     top-level ``when`` clauses (guards, checked after the active state's own), in
     source order."""
 
-    items: tuple[Union["StateDecl", StartDecl, Transition], ...] = ()
+    items: tuple[Union["StateDecl", StartDecl, Transition, VarDecl], ...] = ()
+
+    @property
+    def variables(self) -> list[VarDecl]:
+        return [i for i in self.items if isinstance(i, VarDecl)]
 
     @property
     def states(self) -> list["StateDecl"]:
@@ -432,7 +500,7 @@ class BehaviorDecl(Node):
 
 Item = Union[MissionHeader, LibraryHeader, Import, Let, BehaviorDecl, WorldDecl,
              ControllerDecl, TaskDecl, ConstraintDecl, EventDecl, StartDecl, StateDecl,
-             Transition]
+             Transition, VarDecl]
 
 
 @dataclass(frozen=True)
@@ -465,7 +533,7 @@ class Mission(Node):
     def machine(self) -> Machine:
         """The mission's own state machine: its top-level states, start and guards."""
         return Machine(tuple(i for i in self.items
-                             if isinstance(i, (StateDecl, StartDecl, Transition))),
+                             if isinstance(i, (StateDecl, StartDecl, Transition, VarDecl))),
                        span=self.span)
 
     @property

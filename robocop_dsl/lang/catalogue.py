@@ -16,8 +16,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
 
-from .units import (ANGLE, ANGULAR_ACCELERATION, ANGULAR_JERK, ANGULAR_VELOCITY,
-                    DIMENSIONLESS, LENGTH, LINEAR_VELOCITY, TIME)
+from .units import (ADMITTANCE, ANGLE, ANGULAR_ACCELERATION, ANGULAR_JERK, ANGULAR_VELOCITY,
+                    DIMENSIONLESS, FORCE, LENGTH, LINEAR_VELOCITY, TIME)
 
 POSITION = "position"
 VELOCITY = "velocity"
@@ -51,14 +51,19 @@ ORIENTATION_SPACE = "orientation"
 POSE_SPACE = "pose"
 TWIST_SPACE = "twist"
 GAZE_SPACE = "gaze"
+FORCE_SPACE = "force"
 
 SPACE_AXES = {POSITION_SPACE: 3, ORIENTATION_SPACE: 3, POSE_SPACE: 6, TWIST_SPACE: 6,
-              GAZE_SPACE: 2}
-"""Task coordinates (error and velocity axes) of each body space."""
+              GAZE_SPACE: 2, FORCE_SPACE: 3}
+"""Task coordinates (error and velocity axes) of each body space; a force task's target
+is a force along the three axes of the world, whatever axes it controls."""
+AXIS_NAMES = ("x", "y", "z")
+"""The world's axes, as an ``AXES`` parameter lists them."""
 SWITCH_WORDS = ("true", "false")
 DEFAULT_TOLERANCE = {LENGTH: 1e-3, ANGLE: math.radians(1.0), LINEAR_VELOCITY: 1e-3,
-                     ANGULAR_VELOCITY: math.radians(1.0)}
-"""A body task's tolerance by the dimension of its part [SI]: 1 mm, 1 deg and their rates."""
+                     ANGULAR_VELOCITY: math.radians(1.0), FORCE: 1.0}
+"""A body task's tolerance by the dimension of its part [SI]: 1 mm, 1 deg and their rates,
+1 N."""
 DEFAULT_JOINT_TOLERANCE = {ANGLE: math.radians(0.5), LENGTH: 1e-3}
 """A joint task's tolerance per joint by the joint's dimension [SI], also per second for
 joint velocities: 0.5 deg for a rotation, 1 mm for a translation."""
@@ -201,6 +206,25 @@ for _name, _subject, _space, _doc in (
 TASKS.register(Kind("gaze", _task_parameters(True), BODY_SUBJECT, GAZE_SPACE,
                    "point a body's z axis (a camera's optical axis) at a body or point; "
                    "its error is the angle off it"))
+TASKS.register(Kind("body_force", (
+    Parameter("target", TARGET, settable=True, default=(0.0, 0.0, 0.0),
+              doc="the force [fx, fy, fz] the body exerts on its environment, world frame "
+                  "(pressing down on a table is a negative z); default [0, 0, 0] N"),
+    Parameter("axes", AXES, default=(0, 1, 2),
+              doc="the world axes whose force it controls, e.g. [z]; the others are left "
+                  "free; default [x, y, z]"),
+    Parameter("gain", SCALAR, ADMITTANCE, required=True, settable=True, valid=NON_NEGATIVE,
+              doc="admittance: the reference velocity per newton of force error"),
+    Parameter("max_velocity", SCALAR, LINEAR_VELOCITY, required=True, settable=True,
+              valid=POSITIVE, doc="bound on the reference velocity along each axis"),
+    Parameter("tolerance", TOLERANCE, POSITION, valid=POSITIVE,
+              doc="reached when the force error of every controlled axis is within it; "
+                  "default 1 N"),
+    *(p for p in _task_parameters(False) if p.name in ("priority", "weight", "enabled")),
+), BODY_SUBJECT, FORCE_SPACE,
+    "velocity-resolved force control (admittance): the body's reference velocity along "
+    "each controlled axis is gain * (target - measured), bounded by max_velocity; the "
+    "body needs a force sensor"))
 
 CONSTRAINTS.register(Kind("joint_kinematic", (
     Parameter("min_position", PER_DOF, POSITION, settable=True,
@@ -288,3 +312,9 @@ TOLERANCES.register(Kind("twist", (
     space=TWIST_SPACE, doc="the two parts of a body_velocity task's tolerance"))
 """A tolerance of two parts, ``pose(position = 2 mm, orientation = 1 deg)``: each part
 given alone may also be written as one number of its dimension."""
+
+AXES_PARAMETERS = frozenset(p.name for registry in (TASKS, CONSTRAINTS)
+                            for kind in map(registry.get, registry.names())
+                            for p in kind.parameters if p.kind == AXES)
+"""The names of the parameters that list the world's axes: their values are names, not
+constants to substitute."""

@@ -18,7 +18,7 @@ from .parser import mission_grammar
 
 INDENT = "    "
 _ONE_LINERS = (ast.WorldDecl, ast.ControllerDecl, ast.EventDecl, ast.StartDecl, ast.Import,
-               ast.Let)
+               ast.Let, ast.VarDecl)
 
 
 @dataclass(frozen=True)
@@ -89,7 +89,33 @@ def _operand(condition: ast.Condition, parent: int) -> str:
     return f"({text})" if own <= parent and own < 3 else text
 
 
+_STRENGTH = {"+": 1, "-": 1, "*": 2, "/": 2}
+
+
+def format_expression(node, parent: int = 0, right: bool = False) -> str:
+    """An expression with the parentheses its structure needs and no others (a right
+    operand of ``-`` or ``/`` keeps its own, a negated number too: ``-1`` is a number)."""
+    if isinstance(node, ast.Binary):
+        own = _STRENGTH[node.operator]
+        text = (f"{format_expression(node.left, own)} {node.operator} "
+                f"{format_expression(node.right, own, True)}")
+        return f"({text})" if own < parent or (own == parent and right) else text
+    if isinstance(node, ast.Negative):
+        operand = format_expression(node.operand, 3)
+        return f"-({operand})" if isinstance(node.operand, ast.Quantity) else "-" + operand
+    if isinstance(node, (ast.Quantity, ast.Vector)):
+        return format_value(node)
+    if isinstance(node, ast.Variable):
+        return node.name.text
+    return format_measure(node)
+
+
 def format_measure(measure: ast.Measure) -> str:
+    if isinstance(measure, ast.Variable):
+        return measure.name.text
+    if isinstance(measure, ast.Wrench):
+        axis = f".{measure.axis.text}" if measure.axis is not None else ""
+        return f"{'torque' if measure.torque else 'force'}({measure.body.text}){axis}"
     if isinstance(measure, ast.Member):
         region = f"{measure.region.text}." if measure.region is not None else ""
         return f"{measure.owner.text}.{region}{measure.field.text}"
@@ -114,6 +140,8 @@ def format_condition(condition: ast.Condition) -> str:
                 f"{format_value(condition.quantity)}")
     if isinstance(condition, ast.EventCondition):
         return f"event {condition.event.text}"
+    if isinstance(condition, ast.Contact):
+        return f"contact({condition.first.text}, {condition.second.text})"
     return format_measure(condition)
 
 
@@ -123,6 +151,8 @@ def format_action(action: ast.Action) -> str:
         return f"{verb} {', '.join(n.text for n in action.names)}"
     if isinstance(action, ast.Assign):
         return f"{action.owner.text}.{action.field.text} = {format_value(action.value)}"
+    if isinstance(action, ast.SetVar):
+        return f"{action.name.text} = {format_expression(action.value)}"
     if isinstance(action, ast.Attach):
         return f"attach {action.body.text} to {action.parent.text}"
     if isinstance(action, ast.Detach):
@@ -260,6 +290,9 @@ def _one_line(item: ast.Item) -> str | None:
         return _described("event", item.name, item.description)
     if isinstance(item, ast.StartDecl):
         return f"start {item.state.text}"
+    if isinstance(item, ast.VarDecl):
+        value = f" = {format_expression(item.value)}" if item.value is not None else ""
+        return f"var {item.name.text}: {item.kind.text}{value}"
     return None
 
 

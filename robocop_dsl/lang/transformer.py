@@ -243,6 +243,14 @@ class MissionBuilder(Transformer):
         return ast.Assign(_name(children[0]), _name(children[1]), children[2],
                           span=self._span(meta))
 
+    def set_var(self, meta, children):
+        return ast.SetVar(_name(children[0]), children[1], span=self._span(meta))
+
+    def var_decl(self, meta, children):
+        value = children[2] if len(children) > 2 else None
+        return ast.VarDecl(_name(children[0]), _name(children[1]), value,
+                           span=self._span(meta))
+
     def attach(self, meta, children):
         return ast.Attach(_name(children[0]), _name(children[1]), span=self._span(meta))
 
@@ -283,6 +291,24 @@ class MissionBuilder(Transformer):
 
     def clearance(self, meta, children):
         return ast.Clearance(_name(children[0]), _name(children[1]), span=self._span(meta))
+
+    def contact(self, meta, children):
+        return ast.Contact(_name(children[0]), _name(children[1]), span=self._span(meta))
+
+    def wrench(self, meta, children):
+        names = _tokens(children, "NAME")
+        return ast.Wrench(str(children[0]) == "torque", _name(names[0]),
+                          _name(names[1]) if len(names) > 1 else None, span=self._span(meta))
+
+    def variable(self, meta, children):
+        return ast.Variable(_name(children[0]), span=self._span(meta))
+
+    def binary(self, meta, children):
+        left, operator, right = children
+        return ast.Binary(str(operator), left, right, span=self._span(meta))
+
+    def negative(self, meta, children):
+        return ast.Negative(children[-1], span=self._span(meta))
 
     def member(self, meta, children):
         names = [_name(c) for c in children]

@@ -1,6 +1,7 @@
 """Completion: what may be written where the cursor is, from the language's catalogue
 (keywords, task and constraint types, parameters with their units, interpolators,
-feedback laws, units), the mission's own names and its world's."""
+feedback laws, units, var kinds), the mission's own names (the vars seen where the
+cursor is) and its world's."""
 
 from __future__ import annotations
 
@@ -18,16 +19,22 @@ from . import names
 from .project import Project
 
 Item = types.CompletionItemKind
-TOP_KEYWORDS = ("mission", "library", "import", "let", "world", "controller", "task",
+TOP_KEYWORDS = ("mission", "library", "import", "let", "var", "world", "controller", "task",
                 "constraint", "event", "behavior", "start", "state", "final", "when")
 STATE_KEYWORDS = ("enter", "during", "exit", "when", "state", "final", "start")
 ACTIONS = ("enable", "disable", "reset", "attach", "detach", "emit", "log")
-MEASURES = ("elapsed", "time", "distance", "clearance", "event", "not", "controller")
+MEASURES = ("elapsed", "time", "distance", "clearance", "force", "torque", "contact", "event",
+            "not", "controller")
+COMPUTED = ("time", "distance", "clearance", "force", "torque")
+"""The measures an action computes with (``elapsed`` belongs to clauses)."""
+AXES = ("x", "y", "z")
 TASK_FIELDS = ("reached", "interpolated", "error", "position_error", "orientation_error")
 BEHAVIOR_KINDS = ("task", "constraint", "body", "joint_group", "event", "target", "length",
                   "angle", "duration", "linear_velocity", "angular_velocity",
                   "linear_acceleration", "angular_acceleration", "number")
 _STRINGS = re.compile(r'"([^"\\\n]|\\.)*"')
+_PLACEHOLDER = re.compile(r'\blog\s+"([^"\\]|\\.)*\{\s*\w*$')
+_ASSIGNMENT = re.compile(r"\s*(var\s+\w+\s*:\s*\w+|\w+)\s*=(?!=)")
 
 
 def units_text(parameter: Parameter, family: str) -> str:
@@ -98,8 +105,10 @@ class _Names:
                     if isinstance(item, node_type):
                         self.top.setdefault(kind, []).append(item.name.text)
         parsed = project.parsed(path)
-        self.states = [o.text for o in parsed.occurrences
-                       if o.declares and o.role in (names.STATE, names.FINAL)] if parsed else []
+        found = parsed.occurrences if parsed else []
+        self.states = [o.text for o in found
+                       if o.declares and o.role in (names.STATE, names.FINAL)]
+        self.vars = [o for o in found if o.declares and o.role == names.VAR]
         self.world = project.world(path)
 
     def items(self, kind: str, item_kind) -> list[types.CompletionItem]:
@@ -113,6 +122,10 @@ class _Names:
         bodies = self.world.body_names() if self.world else []
         return _plain(bodies, Item.Struct, "body")
 
+    def joint_groups(self) -> list[types.CompletionItem]:
+        groups = self.world.group_names() if self.world else []
+        return _plain(groups, Item.Module, "joint group")
+
     def groups(self) -> list[types.CompletionItem]:
         if self.world is None:
             return []
@@ -124,6 +137,27 @@ class _Names:
 
     def values(self) -> list[types.CompletionItem]:
         return self.items(names.CONSTANT, Item.Constant) + self.bodies()
+
+    def variables(self, line: int) -> list[types.CompletionItem]:
+        """The vars seen on the 1-based ``line``: those at the top of the file and those
+        of the machines (behaviour bodies, regions) around it."""
+        seen = []
+        for declared in self.vars:
+            machine = declared.machines[0]
+            span = machine.span
+            if len(declared.machines) == 1 and declared.behavior is None \
+                    or span.line <= line <= span.end_line:
+                seen.append(types.CompletionItem(declared.text, kind=Item.Variable,
+                                                 detail=f"var: {declared.node.kind.text}"))
+        return list({item.label: item for item in seen}.values())
+
+    def numbers(self, line: int) -> list[types.CompletionItem]:
+        """What stands for a number: the vars seen on ``line`` and the constants."""
+        return self.variables(line) + self.items(names.CONSTANT, Item.Constant)
+
+    def expression(self, line: int) -> list[types.CompletionItem]:
+        """What an action computes with: numbers, measures and bodies (``BODY.position``)."""
+        return self.numbers(line) + _plain(COMPUTED, Item.Keyword) + self.bodies()
 
 
 def _units(dimension: str | None) -> list[types.CompletionItem]:
@@ -167,6 +201,9 @@ def complete(project: Project, path: Path, line: int, character: int
     block = blocks[-1] if blocks else None
     known = _Names(project, path)
 
+    computed = _computed(current, before, block, known, line + 1)
+    if computed is not None:
+        return computed
     if match := re.match(r"\s*(task|constraint)\s+\w+\s*:\s*$", before):
         registry = TASKS if match.group(1) == "task" else CONSTRAINTS
         return _kinds(registry, Item.Class, False)
@@ -184,8 +221,11 @@ def complete(project: Project, path: Path, line: int, character: int
         return known.state_items()
     if re.search(r"\b(emit|event)\s+$", before):
         return known.items(names.EVENT, Item.Event)
-    if re.search(r"\b(attach|detach|to)\s+$|\bdistance\s*\(\s*(\w+\s*,\s*)?$", before):
+    if re.search(r"\b(attach|detach|to)\s+$|\b(distance|force|torque)\s*\(\s*(\w+\s*,\s*)?$",
+                 before):
         return known.bodies()
+    if re.search(r"\b(clearance|contact)\s*\(\s*(\w+\s*,\s*)?$", before):
+        return known.bodies() + known.joint_groups()
     if match := re.match(r"\s*(state|region)\s+\w+\s*:\s*$", before):
         extra = _plain(["parallel"], Item.Keyword) if match.group(1) == "state" else []
         return extra + known.items(names.BEHAVIOR, Item.Function)
@@ -206,12 +246,46 @@ def complete(project: Project, path: Path, line: int, character: int
     if re.search(r"\.target\s*=\s*$", before):
         return _value_items(TASKS.get("body_pose").parameter("target"), known)
     if re.search(r"\b(when|and|or|not)\s+$|\(\s*$", before):
-        return (_plain(MEASURES, Item.Keyword) + known.controlled() + known.state_items())
+        return (_plain(MEASURES, Item.Keyword) + known.variables(line + 1) + known.controlled()
+                + known.state_items())
     if re.match(r"\s*$", before):
-        return _line_start(block, known)
+        return _line_start(block, known, line + 1)
     if re.search(r":\s*$", before) and block and block.startswith("behavior"):
         return _plain(BEHAVIOR_KINDS, Item.TypeParameter)
     return known.values() + known.controlled() + known.state_items()
+
+
+def _in_actions(block: str | None) -> bool:
+    """Whether the innermost open block is a list of actions."""
+    return bool(block and (re.match(r"(enter|during|exit)\b", block) or "->" in block))
+
+
+def _computed(current: str, before: str, block: str | None, known: _Names, line: int
+              ) -> list[types.CompletionItem] | None:
+    """Where a var, a number or a measure goes (a log text's ``{``, a var's kind, an
+    expression, a comparison, a vector, an axis), on the 1-based ``line``; ``None``
+    elsewhere."""
+    if _PLACEHOLDER.search(current):
+        return known.numbers(line)
+    if re.match(r"\s*var\s+\w+\s*:\s*$", before):
+        from ..check.variables import KINDS
+
+        return _plain(KINDS, Item.TypeParameter, "var kind")
+    if match := re.search(r"\b(force|torque)\s*\(\s*\w*\s*\)\s*\.\s*$", before):
+        return _plain(AXES, Item.Field, match.group(1))
+    if re.search(r"\w\s*\.\s*position\s*\.\s*$", before):
+        return _plain(AXES, Item.Field, "position")
+    statement = before.rsplit("{", 1)[-1]
+    assignment = _ASSIGNMENT.match(statement)
+    if assignment and (assignment.group(1).startswith("var") or _in_actions(block)) \
+            and re.search(r"([-+*/=]|(^|[^\w\s])\s*\()\s*$", statement):
+        return known.expression(line)
+    if re.search(r"\[[^\[\]]*[\[,]\s*$", statement):
+        return known.numbers(line) if _in_actions(block) else known.items(names.CONSTANT,
+                                                                          Item.Constant)
+    if re.search(r"\bwhen\b.*(?<!-)[<>]=?\s*$", statement):
+        return known.numbers(line)
+    return None
 
 
 def _fields(owner: str, known: _Names) -> list[types.CompletionItem]:
@@ -221,6 +295,8 @@ def _fields(owner: str, known: _Names) -> list[types.CompletionItem]:
         settable = ("target", "gain", "weight")
         return _plain(TASK_FIELDS, Item.Field, "condition") + _plain(settable, Item.Property,
                                                                       "settable")
+    if known.world is not None and known.world.has_body(owner):
+        return _plain(["position"], Item.Field, "body")
     return _plain(["visits", "done"], Item.Field, "state")
 
 
@@ -240,7 +316,7 @@ def _call_items(call: str, written: str, known: _Names) -> list[types.Completion
     return known.values()
 
 
-def _line_start(block: str | None, known: _Names) -> list[types.CompletionItem]:
+def _line_start(block: str | None, known: _Names, line: int) -> list[types.CompletionItem]:
     if block is None:
         return _plain(TOP_KEYWORDS, Item.Keyword)
     declaration = re.match(r"(task|constraint)\s+\w+\s*:\s*(\w+)", block)
@@ -248,7 +324,8 @@ def _line_start(block: str | None, known: _Names) -> list[types.CompletionItem]:
         registry = TASKS if declaration.group(1) == "task" else CONSTRAINTS
         kind = registry.get(declaration.group(2))
         return _parameters(kind, declaration.group(1)) if kind else []
-    if re.match(r"(enter|during|exit)\b", block) or "->" in block:
-        return _plain(ACTIONS, Item.Keyword) + known.controlled()
+    if _in_actions(block):
+        return _plain(ACTIONS, Item.Keyword) + known.controlled() + known.variables(line)
     keywords = STATE_KEYWORDS + (("region",) if block.endswith("parallel") else ())
+    keywords += ("var",) if re.match(r"(behavior|region)\b", block) else ()
     return _plain(keywords, Item.Keyword)

@@ -1,5 +1,6 @@
 """Hover: a type's documentation and parameters, a body's parent and world placement,
-a joint group's joints and limits, a constant's value, a declaration's header."""
+a joint group's joints and limits, a constant's value, a var's kind, first value and
+scope, a declaration's header."""
 
 from __future__ import annotations
 
@@ -65,6 +66,37 @@ def _group_text(world, name: str, kind: str) -> str:
     return "\n".join(lines)
 
 
+def _kind_of_var(kind: str) -> str | None:
+    """What a var of ``kind`` holds."""
+    from ..check.variables import KINDS, describe
+
+    if kind == "count":
+        return "a count: a whole number"
+    known = KINDS.get(kind)
+    return describe(*known) if known else None
+
+
+def _scope_text(declared: names.Occurrence) -> str:
+    """Where a var is declared and who sees it."""
+    region = f"region `{declared.context}`" if declared.context else None
+    if declared.behavior is not None:
+        inside = f"{region} of " if region else ""
+        return (f"declared in {inside}behavior `{declared.behavior.name.text}`: one per "
+                "instance")
+    if region is not None:
+        return f"declared in {region}: seen there and in the machines inside it"
+    return "declared at the top of the file: seen everywhere, behaviours included"
+
+
+def _var_text(parsed, node: ast.VarDecl) -> str:
+    text = f"```mission\n{item_lines(node)[0].text}\n```"
+    kind = _kind_of_var(node.kind.text)
+    declared = next((o for o in parsed.occurrences if o.declares and o.node is node), None)
+    details = [kind] if kind else []
+    details += [_scope_text(declared)] if declared is not None else []
+    return text + "".join(f"\n\n{line}" for line in details)
+
+
 def _declaration_text(node) -> str:
     header = item_lines(node)[0].text.rstrip(" {")
     text = f"```mission\n{header}\n```"
@@ -105,6 +137,9 @@ def _catalogue_text(occurrence: names.Occurrence) -> str | None:
             if parameter is not None:
                 return (f"**{text}** ({units_text(parameter, 'task')})"
                         + (f": {parameter.doc}" if parameter.doc else ""))
+    if occurrence.role == names.KIND and occurrence.context == names.VAR:
+        kind = _kind_of_var(text)
+        return f"**{text}** (var kind): {kind}" if kind else None
     if occurrence.role == names.UNIT and text in UNITS:
         unit = UNITS[text]
         return f"**{text}**: {unit.dimension}, {unit.to_si:g} in SI"
@@ -123,6 +158,8 @@ def hover(project: Project, path: Path, line: int, column: int) -> types.Hover |
             text = _body_text(world, target.name)
         elif target.kind in (JOINT_GROUP, JOINT) and world is not None:
             text = _group_text(world, target.name, target.kind)
+        elif isinstance(target.node, ast.VarDecl):
+            text = _var_text(parsed, target.node)
         elif target.node is not None:
             text = _declaration_text(target.node)
         else:

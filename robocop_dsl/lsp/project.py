@@ -33,7 +33,7 @@ class Parsed:
 
     @cached_property
     def occurrences(self) -> list[names.Occurrence]:
-        return names.occurrences(self.tree)
+        return names.occurrences(self.tree, self.text)
 
     def imports(self) -> list[tuple[ast.Import, Path]]:
         """The files this one imports directly, with the statement naming each."""

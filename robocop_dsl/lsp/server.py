@@ -126,6 +126,6 @@ def build_server() -> MissionServer:
     @server.feature(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, semantic_tokens.LEGEND)
     def tokens(ls: MissionServer, params: types.SemanticTokensParams):
         parsed = project.parsed(uri_to_path(params.text_document.uri))
-        return semantic_tokens.semantic_tokens(parsed) if parsed else None
+        return semantic_tokens.semantic_tokens(project, parsed) if parsed else None
 
     return server

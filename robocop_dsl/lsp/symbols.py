@@ -1,4 +1,4 @@
-"""The outline of a mission: its declarations, behaviours and states, nested as
+"""The outline of a mission: its declarations, vars, behaviours and states, nested as
 written."""
 
 from __future__ import annotations
@@ -19,9 +19,18 @@ def _symbol(name: ast.Name, node, kind, detail: str | None = None, children=None
                                 children=children or None)
 
 
+def _var(var: ast.VarDecl) -> types.DocumentSymbol:
+    return _symbol(var.name, var, Kind.Variable, f"var: {var.kind.text}")
+
+
 def _machine(items) -> list[types.DocumentSymbol]:
-    return [symbol for item in items if isinstance(item, ast.StateDecl)
-            for symbol in [_state(item)]]
+    found = []
+    for item in items:
+        if isinstance(item, ast.VarDecl):
+            found.append(_var(item))
+        elif isinstance(item, ast.StateDecl):
+            found.append(_state(item))
+    return found
 
 
 def _state(state: ast.StateDecl) -> types.DocumentSymbol:
@@ -50,6 +59,6 @@ def document_symbols(tree: ast.Mission) -> list[types.DocumentSymbol]:
         elif isinstance(item, ast.BehaviorDecl):
             found.append(_symbol(item.name, item, Kind.Function, "behavior",
                                  _machine(item.machine.items)))
-        elif isinstance(item, ast.StateDecl):
-            found.append(_state(item))
+        else:
+            found += _machine([item])
     return found

@@ -5,7 +5,8 @@ Each ``read()`` writes the last command to the joint servos (:mod:`.servo`), ste
 the physics ``period / time_step`` times and returns the configuration: the joints'
 positions and the free bodies' poses as physics left them. Joints outside the driven
 group are servoed to their initial positions. ``attach`` turns on a weld between a
-free body and another body; ``detach`` turns it off.
+free body and another body; ``detach`` turns it off. ``wrench`` and ``contact`` read
+the contacts of the latest physics step (:mod:`.contacts`).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import time
 import numpy as np
 import pinocchio as pin
 
+from .contacts import ContactReader
 from .model import initial_state, physics_model
 from .servo import Servo
 
@@ -55,6 +57,7 @@ class MujocoDriver:
         self.model = self.physics.model
         self._change(physics or {})
         self.data = mujoco.MjData(self.model)
+        self.contacts = ContactReader(mujoco, self.model, self.data, self.physics.welds)
         self.initial = np.array(world.initial_configuration() if initial is None else initial,
                                 dtype=float)
         self._joints = self._joint_table()
@@ -148,6 +151,7 @@ class MujocoDriver:
         started = time.perf_counter()
         mujoco.mj_step(self.model, data, nstep=self.steps)
         self.step_time += time.perf_counter() - started
+        self.contacts.invalidate()
         return self._state()
 
     def write(self, velocity: np.ndarray) -> None:
@@ -157,6 +161,28 @@ class MujocoDriver:
     def hold(self) -> None:
         """Command zero velocity."""
         self._command = np.zeros(self.group.dofs)
+
+    # ---- contacts ----------------------------------------------------------------------
+
+    def wrench(self, body: str) -> np.ndarray:
+        """The wrench ``body`` and what it carries (its subtree, the free bodies welded
+        to it) exert on the environment through contacts at the latest physics step:
+        ``[fx, fy, fz, tx, ty, tz]`` [N, N m], world frame, torque about the body's
+        origin (pressing down on a table: negative ``fz``).
+
+        Raises:
+            KeyError: ``body`` is not a body of the simulation.
+        """
+        return self.contacts.wrench(body)
+
+    def contact(self, first_bodies, second_bodies) -> bool:
+        """Whether a body of ``first_bodies`` touches one of ``second_bodies`` (body
+        names) at the latest physics step.
+
+        Raises:
+            KeyError: a name is not a body of the simulation.
+        """
+        return self.contacts.touching(first_bodies, second_bodies)
 
     # ---- free bodies -------------------------------------------------------------------
 
@@ -200,6 +226,7 @@ class MujocoDriver:
         self.data.qpos[:], self.data.act[:] = initial_state(self.physics, self.world,
                                                             self.initial)
         self._mujoco.mj_forward(self.model, self.data)
+        self.contacts.invalidate()
 
     def _state(self) -> tuple:
         data, joints = self.data, self._joints

@@ -19,11 +19,13 @@ from __future__ import annotations
 import operator
 
 from ..compile import spec as s
+from ..compile import variables as v
 from ..compile.state_graph import join
 from ..control import Controller, make_feedback_loop, make_interpolator
 from .clearance import Clearance
 from .program import Clause, MachineProgram, Program, StateProgram
 from .targets import control_target
+from .variables import evaluator, log_text, resolved
 
 _COMPARE = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
 
@@ -45,18 +47,21 @@ def build_controller(mission: s.MissionSpec, world, kinematics, processor: str |
                                           **parameters)
         added.enabled = constraint.enabled
     for spec in filter(mine, mission.tasks.values()):
-        parameters = {
-            "interpolator": make_interpolator(spec.interpolator.kind,
-                                              **_scalars(spec.interpolator.parameters)),
-            "feedback": make_feedback_loop(spec.feedback.kind, **spec.feedback.parameters),
-            "priority": spec.priority, "weight": spec.weight}
+        parameters = {"priority": spec.priority, "weight": spec.weight, **spec.options}
+        if spec.type == "body_force":
+            parameters["gain"] = spec.gain
+        else:
+            parameters["interpolator"] = make_interpolator(
+                spec.interpolator.kind, **_scalars(spec.interpolator.parameters))
+            parameters["feedback"] = make_feedback_loop(spec.feedback.kind,
+                                                        **spec.feedback.parameters)
         if spec.tolerance:
             parameters["tolerance"] = spec.tolerance
-        if spec.reference is not None:
+        if spec.reference is not None and spec.type != "body_force":
             parameters["reference"] = spec.reference
         task = controller.add_task(spec.type, spec.name, spec.joint_group or spec.body,
                                    **parameters)
-        if spec.gain is not None:
+        if spec.gain is not None and spec.type != "body_force":
             task.gain = spec.gain
         task.target = control_target(task, spec.target)
         if spec.enabled:
@@ -73,7 +78,7 @@ def _scalars(parameters: dict) -> dict:
 def build_program(mission: s.MissionSpec, remote=None) -> Program:
     """Closures for every state's actions and clauses, built once; ``remote`` reaches
     the tasks and constraints of the other controllers of a cascade (see above)."""
-    return Program(build_machine(mission.machine, remote))
+    return Program(build_machine(mission.machine, remote), mission.variables)
 
 
 def build_machine(machine: s.MachineSpec, remote=None) -> MachineProgram:
@@ -150,12 +155,19 @@ def condition(spec, remote=None):
     if isinstance(spec, s.AnyCondition):
         operands = [condition(o, remote) for o in spec.operands]
         return lambda runner, owner: any(o(runner, owner) for o in operands)
-    measure, compare, value = _measure(spec.measure, remote), _COMPARE[spec.operator], spec.value
-    return lambda runner, owner: compare(measure(runner, owner), value)
+    if isinstance(spec, v.ContactCondition):
+        return lambda runner, owner, a=spec.first, b=spec.second: runner.contact(a, b)
+    read, compare = measure(spec.measure, remote), _COMPARE[spec.operator]
+    if isinstance(spec.value, v.VarValue):
+        value = evaluator(spec.value)
+        return lambda runner, owner: compare(read(runner, owner), value(runner, owner))
+    return lambda runner, owner, value=spec.value: compare(read(runner, owner), value)
 
 
-def _measure(spec, remote):
+def measure(spec, remote=None):
     """A function ``measure(runner, owner)`` giving the value of ``spec`` [SI]."""
+    if isinstance(spec, (v.VarValue, v.PositionMeasure, v.WrenchMeasure)):
+        return evaluator(spec)
     if isinstance(spec, s.ElapsedMeasure):
         return lambda runner, owner: round(runner.time - owner.time, 9)
     if isinstance(spec, s.VisitsMeasure):
@@ -205,6 +217,11 @@ def action(spec, remote=None):
         return lambda runner, body=spec.body: runner.detach(body)
     if isinstance(spec, s.EmitAction):
         return lambda runner, event=spec.event: runner.emit(event)
+    if isinstance(spec, v.SetVarAction):
+        value = evaluator(spec.value)
+        return lambda runner, name=spec.name: runner.assign(name, value(runner, None))
+    if spec.fields:
+        return lambda runner, log=spec: runner.log(log_text(log, runner))
     return lambda runner, text=spec.text: runner.log(text)
 
 
@@ -225,7 +242,7 @@ def _switch(runner, name: str, enabled: bool) -> None:
 
 def _set_target(runner, name: str, target) -> None:
     task = runner.controller.task(name)
-    task.target = control_target(task, target)
+    task.target = control_target(task, resolved(target, runner))
 
 
 def _set_parameter(runner, spec: s.SetParameterAction) -> None:

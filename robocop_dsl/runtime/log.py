@@ -4,12 +4,17 @@ they happen) and ``timeseries.parquet`` (one row per cycle, one column per signa
 The time series columns: ``cycle``, ``time`` [s], ``state`` (the active configuration:
 leaf state paths joined by `` | ``), ``solved``,
 ``q.JOINT`` [rad or m], ``command.JOINT`` [rad/s or m/s], ``error.TASK`` (norm, m or
-rad; NaN while the task is disabled; a pose task's parts also as
+rad, N for a force task; NaN while the task is disabled; a pose task's parts also as
 ``error.TASK.position`` [m] and ``error.TASK.orientation`` [rad]; each error field's
-``unit`` metadata says ``m``, ``rad`` or ``m+rad``), ``reference.TASK.I`` (the task's interpolated
+``unit`` metadata says ``m``, ``rad``, ``m+rad`` or ``N``), ``reference.TASK.I`` (the task's interpolated
 reference, component I; poses as x, y, z [m] then a rotation vector [rad]),
 ``pose.BODY.x|y|z`` [m] and ``pose.BODY.qx|qy|qz|qw`` (the world pose of each free
-body, as physics put it), ``cycle_time`` and ``compute_time`` [s]. Read it with :func:`read_timeseries`,
+body, as physics put it), ``force.BODY.x|y|z`` [N] and ``torque.BODY.x|y|z`` [N m] (each
+force sensor's reading: what the body exerts on the environment, world frame, torque
+about the body's origin; NaN while the driver measures none; the fields' ``unit``
+metadata says ``N`` or ``Nm``), ``var.NAME`` (each var's value, SI; a position as
+``var.NAME.x|y|z``; NaN until assigned; the field's ``unit`` metadata gives its unit),
+``cycle_time`` and ``compute_time`` [s]. Read it with :func:`read_timeseries`,
 ``pandas.read_parquet`` or ``pyarrow.parquet.read_table(...)``.
 
 The time series is streamed: every second of mission time a writer thread turns the
@@ -72,6 +77,8 @@ class RunLogger(Observer):
         self._failure: BaseException | None = None
         self._schema = None
         self._bodies: list = []
+        self._sensors: list = []
+        self._variables: dict = {}
 
     def on_start(self, runner) -> None:
         """Size the row groups to the run's period and give every task of the run its
@@ -80,6 +87,10 @@ class RunLogger(Observer):
         self._tasks = {task.name: _reference_width(task) for task in runner.tasks()}
         self._units = {task.name: _error_unit(task) for task in runner.tasks()}
         self._bodies = list(getattr(runner, "free_bodies", ()))
+        self._sensors = list(runner.sensors.bodies) if hasattr(runner, "sensors") else []
+        variables = getattr(runner, "variables", None)
+        self._variables = {name: (spec.size, spec.unit)
+                           for name, spec in (variables.specs.items() if variables else ())}
 
     def on_cycle(self, record: CycleRecord) -> None:
         self._batch.append(record)
@@ -120,7 +131,7 @@ class RunLogger(Observer):
             self._tasks = {v.name: len(reference_vector(v.reference))
                            for r in records for v in r.tasks}
         self._schema = pa.schema(_fields(self.joint_names, self._tasks, self._units,
-                                         self._bodies))
+                                         self._bodies, self._sensors, self._variables))
         shutil.rmtree(self.folder / PARTS, ignore_errors=True)
         (self.folder / PARTS).mkdir()
         (self.folder / TIMESERIES).unlink(missing_ok=True)
@@ -181,6 +192,15 @@ class RunLogger(Observer):
             poses = np.array([pose_vector(r.body_poses[body]) for r in records]).reshape(-1, 7)
             for index, component in enumerate(POSE_COMPONENTS):
                 columns[f"pose.{body}.{component}"] = poses[:, index]
+        for body in self._sensors:
+            wrenches = _stack([r.wrenches.get(body) for r in records], 6)
+            for index, column in enumerate(wrench_columns(body)):
+                columns[column] = wrenches[:, index]
+        for name, (size, _) in self._variables.items():
+            values = _stack([np.atleast_1d(r.variables[name]) if name in r.variables
+                             else None for r in records], size)
+            for index, column in enumerate(var_columns(name, size)):
+                columns[column] = values[:, index]
         columns["cycle_time"] = np.array([r.cycle_time for r in records])
         columns["compute_time"] = np.array([r.compute_time for r in records])
         return pa.table(columns, schema=self._schema)
@@ -218,7 +238,19 @@ def pose_vector(pose: np.ndarray) -> np.ndarray:
     return pin.SE3ToXYZQUAT(pin.SE3(np.asarray(pose, dtype=float)))
 
 
-def _fields(joint_names: list, tasks: dict, units: dict, bodies: list = ()) -> list:
+def wrench_columns(body: str) -> list:
+    """The time series' columns of the force sensor on ``body``: force [N] then torque
+    [N m], x, y, z."""
+    return [f"{part}.{body}.{axis}" for part in ("force", "torque") for axis in "xyz"]
+
+
+def var_columns(name: str, size: int) -> list:
+    """The time series' columns of a var: ``var.NAME``, or ``var.NAME.x|y|z``."""
+    return [f"var.{name}"] if size == 1 else [f"var.{name}.{axis}" for axis in "xyz"]
+
+
+def _fields(joint_names: list, tasks: dict, units: dict, bodies: list = (),
+            sensors: list = (), variables: dict | None = None) -> list:
     """The time series' columns, in order, as pyarrow fields; error fields carry their
     ``unit`` (``units``: task -> unit) as metadata."""
     import pyarrow as pa
@@ -238,15 +270,21 @@ def _fields(joint_names: list, tasks: dict, units: dict, bodies: list = ()) -> l
         fields += [pa.field(f"reference.{task}.{i}", pa.float64()) for i in range(size)]
     fields += [pa.field(f"pose.{body}.{component}", pa.float64())
                for body in bodies for component in POSE_COMPONENTS]
+    fields += [error(column, "N" if column.startswith("force.") else "Nm")
+               for body in sensors for column in wrench_columns(body)]
+    fields += [error(column, unit or None) for name, (size, unit) in (variables or {}).items()
+               for column in var_columns(name, size)]
     fields += [pa.field("cycle_time", pa.float64()), pa.field("compute_time", pa.float64())]
     return fields
 
 
 def _error_unit(task) -> str | None:
     """The unit of a task's error norm: ``m``, ``rad`` or ``m+rad`` (a pose, or a joint
-    group with both kinds of joints); ``None`` for velocity tasks."""
+    group with both kinds of joints), ``N`` (a force); ``None`` for velocity tasks."""
     if task.order != 0:
         return None
+    if task.kind == "body_force":
+        return "N"
     if task.kind == "joint_position":
         world = task.state.world
         prismatic = {world.joint(joint).type == "prismatic" for joint in task.group.joints}
@@ -270,8 +308,9 @@ def timeseries_schema(folder: str | Path):
 
 def _reference_width(task) -> int:
     """How many numbers a task's logged reference has: 6 for an orientation (logged as
-    a pose, see :func:`reference_vector`), else the task's dimension."""
-    return 6 if task.kind == "body_orientation" else int(task.dimension)
+    a pose, see :func:`reference_vector`), 3 for a force (its target, whatever axes it
+    controls), else the task's dimension."""
+    return {"body_orientation": 6, "body_force": 3}.get(task.kind, int(task.dimension))
 
 
 def reference_vector(reference: np.ndarray) -> np.ndarray:

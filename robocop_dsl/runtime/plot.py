@@ -9,7 +9,10 @@ dimension, all under a strip of the states, one row per machine.
   metadata when the log gives one; else it follows from the width of the task's logged
   reference: 2 a gaze angle [rad], 3 a position [m], 6 a pose or an orientation (the
   norm of an error in metres and radians, shown apart), any other a joint posture
-  [rad].
+  [rad]; a force task's error is in newtons.
+- Forces: when the run had force sensors, ``forces`` draws each sensor's force [N]
+  (x, y, z: what its body exerts on the environment, world frame) in a panel of its
+  own; the torques are in the log.
 - The states: the strip's first row holds the mission machine's states, each further
   row one nested machine (a compound state's or a region's); the same translucent
   colour marks a state in the strip, in the legend and as a band behind every panel.
@@ -38,7 +41,9 @@ FIGURES = {
     "task_errors": ("error.", None),
 }
 ERROR_PANELS = {"m": "position error [m]", "rad": "angle error [rad]",
-                "m+rad": "pose error, norm of metres and radians [m, rad]"}
+                "m+rad": "pose error, norm of metres and radians [m, rad]",
+                "N": "force error [N]"}
+FORCE_PREFIX = "force."
 _JOINT_WORD = re.compile(r"^(.*?)_?joint", re.IGNORECASE)
 
 
@@ -188,6 +193,18 @@ def figures(folder: str | Path):
             panels = [(title, [prefix + j for j in members], label)
                       for title, members in joint_panels(joints)]
         yield name, draw(data, panels, prefix, states, plt)
+    sensors = force_panels(list(data))
+    if sensors:
+        yield "forces", draw(data, sensors, FORCE_PREFIX, states, plt)
+
+
+def force_panels(columns: list) -> list:
+    """``(title, columns, y label)`` per force sensor of the log: its ``force.BODY.x|y|z``
+    columns, in the log's order."""
+    bodies = dict.fromkeys(c[len(FORCE_PREFIX):].rsplit(".", 1)[0] for c in columns
+                           if c.startswith(FORCE_PREFIX))
+    return [(f"force sensor on {body}", [f"{FORCE_PREFIX}{body}.{axis}" for axis in "xyz"],
+             "force on the environment [N]") for body in bodies]
 
 
 def draw(data: dict, panels: list, prefix: str, states: StateBands, plt):

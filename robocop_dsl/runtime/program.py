@@ -68,10 +68,12 @@ class MachineProgram:
 
 class Program:
     """The executable mission: the mission's machine and, by path, every state and
-    every machine nested in it."""
+    every machine nested in it; its vars' specs
+    (:class:`~robocop_dsl.compile.variables.VarSpec`)."""
 
-    def __init__(self, machine: MachineProgram):
+    def __init__(self, machine: MachineProgram, variables: tuple = ()):
         self.machine = machine
+        self.variables = tuple(variables)
         self.machines = {m.path: m for m in machine.walk()}
         self.states = {state.path: state for m in self.machines.values()
                        for state in m.states.values()}

@@ -12,13 +12,14 @@ import numpy as np
 class TaskView:
     """An enabled task as drawn and logged.
 
-    ``kind`` is ``pose``, ``position``, ``orientation``, ``joint``, ``velocity`` or
-    ``gaze``. ``target`` and ``reference`` (the interpolated target) are 4x4
+    ``kind`` is ``pose``, ``position``, ``orientation``, ``joint``, ``velocity``,
+    ``gaze`` or ``force``. ``target`` and ``reference`` (the interpolated target) are 4x4
     homogeneous matrices in the world frame for ``pose`` and ``orientation``, 3-vectors
     [m] for ``position``, joint vectors [rad or m] for ``joint`` and velocity vectors for
     ``velocity``; a ``gaze`` task's target is the watched pose (4x4) and its reference
-    the 2-vector of the direction's components across the optical axis. ``error`` is
-    the norm of the task error [m or rad]; for a ``pose``, ``position_error`` [m] and
+    the 2-vector of the direction's components across the optical axis; a ``force``
+    task's target and reference are its target force [N], world frame. ``error`` is
+    the norm of the task error [m, rad or N]; for a ``pose``, ``position_error`` [m] and
     ``orientation_error`` [rad] are its two parts (NaN for other kinds).
     """
 
@@ -44,7 +45,10 @@ class CycleRecord:
     ``state`` is the active configuration (leaf paths joined by `` | ``) after the
     cycle's transitions; ``transitions`` the
     :class:`~robocop_dsl.runtime.statechart.MicroStep` s taken in the cycle (the
-    start-up's included in the first). Times are seconds.
+    start-up's included in the first). Times are seconds. ``wrenches`` gives, by body,
+    each force sensor's reading ``[fx, fy, fz, tx, ty, tz]`` [N, N m] (what the body
+    exerts on the environment, world frame); empty when the driver measures none.
+    ``variables`` gives each var's value [SI] after the cycle, by qualified name.
     """
 
     cycle: int
@@ -59,6 +63,8 @@ class CycleRecord:
     compute_time: float = 0.0
     cycle_time: float = 0.0
     transitions: tuple = ()
+    wrenches: dict = field(default_factory=dict)
+    variables: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

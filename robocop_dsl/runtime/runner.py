@@ -34,7 +34,9 @@ from .faults import error_text, fault_place, origin
 from .program import Program
 from .records import CycleRecord, Event
 from .result import RunResult, TransitionRecord
+from .sensors import Sensors
 from .statechart import Statechart
+from .variables import Variables
 from .views import TaskViews, task_views
 
 class Runner:
@@ -91,12 +93,18 @@ class Runner:
         self.free_bodies = {body: self.kinematics.frame_id(body)
                             for body in controller.world.free_bodies()}
         """The world's free bodies (frame ids): their poses are in every cycle's record."""
+        self.variables = Variables(program.variables)
+        """The mission's vars and their values (:mod:`robocop_dsl.runtime.variables`)."""
         self._transitions: list = []
         self._times = CycleTimes()
         self._qp_failures = 0
         self._overruns = 0
         self.q = None
         self._robot_state = RobotStateCheck.for_controller(controller)
+        self.sensors = Sensors(controller.world)
+        """The world's force sensors, read after the driver every cycle
+        (:mod:`robocop_dsl.runtime.sensors`); force tasks read them."""
+        controller.sensors = self.sensors
 
     def __repr__(self) -> str:
         return f"Runner({self.name}, state={self.state}, t={self.time:.3f}s)"
@@ -158,6 +166,7 @@ class Runner:
             return
         try:
             self.kinematics.update(self.q)
+            self.variables.start(self)
             self._macro(self.chart.start(self))
         except Exception as error:  # an enter block of the start states raised
             self._fault(error)
@@ -236,6 +245,34 @@ class Runner:
         """A ``log`` event; its ``state`` is the path of the state whose block or clause
         logs, else the configuration."""
         self._notify_event("log", {"message": text, "state": self.chart.running or self.state})
+
+    def assign(self, name: str, value) -> None:
+        """Give var ``name`` (its qualified name) the value ``value`` [SI]; an
+        ``assign`` event says so."""
+        stored = self.variables.set(name, value)
+        self._notify_event("assign", {"var": name, "value": stored,
+                                      "state": self.chart.running or self.state})
+
+    def set_pose(self, body: str, pose) -> None:
+        """Move ``body`` to ``pose`` (``pin.SE3`` or 4x4, world frame) before the next
+        cycle, as a perception pipeline reports where an object is: a body fixed to the
+        world is placed there; a free body is put there by its driver (physics)."""
+        import pinocchio as pin
+
+        pose = pose if isinstance(pose, pin.SE3) else pin.SE3(np.asarray(pose, dtype=float))
+        if body in self.free_bodies:
+            if not hasattr(self.driver, "set_pose"):
+                raise ValueError(f"'{body}' is a free body: its driver places it, and "
+                                 f"{type(self.driver).__name__} cannot")
+            self.driver.set_pose(body, pose)
+        else:
+            if not self.kinematics.is_fixed(self.kinematics.frame_id(body)):
+                raise ValueError(f"'{body}' is carried by a joint: only a body fixed to the "
+                                 "world or a free body can be moved")
+            self.kinematics.place(body, "world", pose)
+            self._attached[body] = self.kinematics.frame_id(body)
+        self._notify_event("action", {"action": "set_pose", "body": body,
+                                      "position": pose.translation.tolist()})
 
     def attach(self, body: str, parent: str) -> None:
         """Make ``body`` move rigidly with ``parent`` from now on: in physics, a weld
@@ -348,8 +385,20 @@ class Runner:
             q, v = self.driver.read()
             self._robot_state.require(q, v)
             self.q = q
+            self.sensors.update(self.driver, self.time_step)
         except Exception as error:  # any driver failure is the run's fault
             self._driver_fault(error)
+
+    def wrench(self, body: str) -> np.ndarray:
+        """The latest reading of the force sensor on ``body``: ``[fx, fy, fz, tx, ty,
+        tz]`` [N, N m], what the body exerts on the environment, world frame (see
+        :mod:`robocop_dsl.runtime.sensors`)."""
+        return self.sensors.wrench(body)
+
+    def contact(self, first: str, second: str) -> bool:
+        """Whether the driver's physics has a contact between sets ``first`` and
+        ``second`` (each a body, or a joint group or joint) now."""
+        return self.sensors.contact(first, second)
 
     def _record(self, command, solved, compute_time, cycle_time) -> None:
         """Hand observers a copy of the cycle; ``compute_time`` [s] is the controller's
@@ -363,7 +412,9 @@ class Runner:
                              self.controller.joint_group.positions(self.q),
                              np.array(command, dtype=float), solved,
                              self.task_views() if self._wants_tasks else (), bodies,
-                             compute_time, cycle_time, steps)
+                             compute_time, cycle_time, steps,
+                             wrenches=self.sensors.readings(),
+                             variables=dict(self.variables.values))
         for observer in list(self.observers):
             self._call(observer, "on_cycle", record)
 

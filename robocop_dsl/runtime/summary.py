@@ -16,13 +16,15 @@ from collections import deque
 from dataclasses import dataclass
 
 from ..compile import spec as s
+from ..compile import variables as v
 from .clearance import Clearance
 from .records import Observer
+from .variables import evaluator
 
 KEPT_FIRINGS = 64   # the latest firings kept: enough for any chain of nested outcomes
 TASK_UNITS = {"joint_position": "rad", "joint_velocity": "rad/s", "body_position": "m",
               "body_orientation": "rad", "body_pose": "m", "body_velocity": "m/s",
-              "gaze": "rad"}
+              "gaze": "rad", "body_force": "N"}
 
 
 def format_quantity(value: float, unit: str) -> str:
@@ -234,10 +236,18 @@ class SummaryWatch(Observer):
         chart = runner.chart
         if isinstance(condition, s.CompareCondition):
             value, unit = self.measure(condition.measure, owner)
-            holds = _COMPARE[condition.operator](value, condition.value)
-            text = (f"{measure_text(condition.measure)} {condition.operator} "
-                    f"{format_quantity(condition.value, unit)}")
+            bound = condition.value
+            if isinstance(bound, v.VarValue):
+                bound, shown = runner.variables.values[bound.name], bound.name
+            else:
+                shown = format_quantity(bound, unit)
+            holds = _COMPARE[condition.operator](value, bound)
+            text = f"{measure_text(condition.measure)} {condition.operator} {shown}"
             return AtomStatus(text, holds, format_quantity(value, unit))
+        if isinstance(condition, v.ContactCondition):
+            holds = runner.contact(condition.first, condition.second)
+            return AtomStatus(f"contact({condition.first}, {condition.second})", holds,
+                              "yes" if holds else "no")
         if isinstance(condition, s.ReachedCondition):
             task = self._task(condition.task)
             holds = task is not None and bool(task.reached)
@@ -299,6 +309,13 @@ class SummaryWatch(Observer):
             return runner.kinematics.distance(measure.first, measure.second), "m"
         if isinstance(measure, s.ClearanceMeasure):
             return Clearance(measure.first, measure.second)(runner.kinematics), "m"
+        if isinstance(measure, v.VarValue):
+            return runner.variables.values[measure.name], runner.variables.specs[
+                measure.name].unit
+        if isinstance(measure, (v.PositionMeasure, v.WrenchMeasure)):
+            unit = "m" if isinstance(measure, v.PositionMeasure) else \
+                "Nm" if measure.torque else "N"
+            return evaluator(measure)(runner, None), unit
         task = self._task(measure.task)
         if task is None:
             return math.nan, ""
@@ -319,6 +336,14 @@ def measure_text(measure) -> str:
         return f"distance({measure.first}, {measure.second})"
     if isinstance(measure, s.ClearanceMeasure):
         return f"clearance({measure.first}, {measure.second})"
+    if isinstance(measure, v.VarValue):
+        return measure.name
+    if isinstance(measure, v.PositionMeasure):
+        return f"{measure.body}.position" + ("" if measure.axis is None
+                                             else "." + "xyz"[measure.axis])
+    if isinstance(measure, v.WrenchMeasure):
+        axis = "" if measure.axis is None else "." + "xyz"[measure.axis]
+        return f"{'torque' if measure.torque else 'force'}({measure.body}){axis}"
     return f"{measure.task}.{measure.field}"
 
 

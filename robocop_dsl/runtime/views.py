@@ -18,7 +18,8 @@ import pinocchio as pin
 from .records import TaskView
 
 _KINDS = {"joint_position": "joint", "joint_velocity": "velocity", "body_velocity": "velocity",
-          "body_position": "position", "body_orientation": "orientation", "body_pose": "pose"}
+          "body_position": "position", "body_orientation": "orientation", "body_pose": "pose",
+          "body_force": "force"}
 
 
 class TaskViews(Sequence):

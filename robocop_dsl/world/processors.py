@@ -3,10 +3,10 @@ and their check when a world loads.
 
 Kinds: ``duration`` [s] > 0 (``5ms``, ``250us``, ``0.5s`` or a number of seconds),
 ``rate`` [Hz] > 0 (``1kHz``, ``500Hz`` or a number of hertz), ``group`` (a joint group
-or joint of the world), ``solver`` (an installed QP solver), ``choice``, ``flag``
-(true/false), ``port`` (a TCP port), ``driver`` (a driver processor of the world),
-``positive`` and ``non_negative`` (finite numbers > 0 and >= 0), ``gains`` (a
-joint servo's ``{kp, kv}``, each a number > 0 or one per joint).
+or joint of the world), ``body`` (a body of the world), ``solver`` (an installed QP
+solver), ``choice``, ``flag`` (true/false), ``port`` (a TCP port), ``driver`` (a driver
+processor of the world), ``positive`` and ``non_negative`` (finite numbers > 0 and
+>= 0), ``gains`` (a joint servo's ``{kp, kv}``, each a number > 0 or one per joint).
 
 RoboCoP's own option names are accepted where they mean what this package does, and
 refused with the supported equivalent where they do not (see :data:`ROBOCOP_OPTIONS`).
@@ -106,10 +106,15 @@ PROCESSOR_TYPES = {
     "mujoco": ProcessorType({"joint_group": Option("group", required=True),
                              "time_step": Option("duration", 0.001),
                              "gains": Option("gains", {"kp": 2000.0, "kv": 100.0})}),
+    "force_sensor": ProcessorType({"body": Option("body", required=True),
+                                   "filter": Option("rate")}),
 }
 """Every processor type and its options. A ``qp_controller``'s ``state_tolerance``
 [rad] is how far past its URDF position limits the driver may report a joint of its
-group before the run faults (a prismatic joint: a tenth of it, in metres)."""
+group before the run faults (a prismatic joint: a tenth of it, in metres). A
+``force_sensor`` measures the wrench its ``body`` exerts on the environment; its
+``filter`` [Hz] is the cutoff frequency of a first-order low-pass filter on the
+reading (none when absent)."""
 
 DRIVER_TYPES = ("simulated", "loopback", "mujoco")
 _RATE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(Hz|kHz|MHz)\s*$")
@@ -131,12 +136,13 @@ class _Refused(Exception):
 
 @dataclass
 class Names:
-    """The joint groups (name -> joints) and joints of an assembled world, and which
-    joints move on their own (have dofs: not fixed, not mimic)."""
+    """The joint groups (name -> joints), joints and bodies of an assembled world, and
+    which joints move on their own (have dofs: not fixed, not mimic)."""
 
     groups: dict
     joints: set
     moving: set = field(default_factory=set)
+    bodies: list = field(default_factory=list)
 
     def joints_of(self, name) -> frozenset | None:
         """The joints of group or joint ``name``; ``None`` when it is neither."""
@@ -161,6 +167,7 @@ def check_processors(entries: dict, names: Names | None) -> tuple[dict, list]:
     if names is not None:
         _link_drivers(built, entries, names, out)
         _physics_rules(built, entries, names, out)
+    _one_sensor_per_body(built, entries, out)
     return built, out
 
 
@@ -294,6 +301,22 @@ def _physics_rules(built: dict, entries: dict, names: Names, out: list) -> None:
                     f"{_divisor(period, step) * 1e3:g}ms"))
 
 
+def _one_sensor_per_body(built: dict, entries: dict, out: list) -> None:
+    """Two force sensors on one body would measure the same wrench twice."""
+    first: dict = {}
+    for name, processor in built.items():
+        body = processor.options.get("body")
+        if processor.type != "force_sensor" or body is None:
+            continue
+        if body in first:
+            entry = entries[name]
+            out.append(entry.type_at.source.error(
+                "duplicate-sensor", f"body '{body}' already has force sensor '{first[body]}'",
+                entry.options.value_span("body"), "keep one force sensor per body"))
+        else:
+            first[body] = name
+
+
 def _divisor(period: float, step: float) -> float:
     """The largest step [s] no longer than ``step`` that divides ``period``."""
     return period / max(1, math.ceil(period / step - 1e-9))
@@ -353,6 +376,16 @@ def _group(value, option, names) -> str:
         raise _Refused(f"names unknown joint group or joint '{value}'",
                        did_you_mean(value, known) or "joint groups: " + ", ".join(names.groups),
                        code="unknown-joint")
+    return value
+
+
+def _body(value, option, names) -> str:
+    if not isinstance(value, str):
+        raise _Refused(f"must name a body, not {_yaml(value)}")
+    if names is not None and value not in names.bodies:
+        raise _Refused(f"names unknown body '{value}'",
+                       did_you_mean(value, names.bodies) or "see the bodies with "
+                       "robocop-mission world FILE.yaml", code="unknown-body")
     return value
 
 
@@ -429,7 +462,8 @@ def _yaml(value) -> str:
     return "null" if value is None else str(value)
 
 
-_CONVERT = {"duration": _duration, "rate": _rate, "group": _group, "solver": _solver,
-            "choice": _choice, "flag": _flag, "port": _port, "driver": _driver_name,
-            "positive": _positive, "non_negative": _non_negative, "gains": _gains}
-_EXAMPLE = {"joint_group": "NAME", "time_step": "5ms"}
+_CONVERT = {"duration": _duration, "rate": _rate, "group": _group, "body": _body,
+            "solver": _solver, "choice": _choice, "flag": _flag, "port": _port,
+            "driver": _driver_name, "positive": _positive, "non_negative": _non_negative,
+            "gains": _gains}
+_EXAMPLE = {"joint_group": "NAME", "time_step": "5ms", "body": "NAME"}

@@ -107,6 +107,11 @@ class World:
         URDF wrote (``world``)."""
         return self._assembly.links.get(body)
 
+    def force_sensors(self) -> dict:
+        """The ``force_sensor`` processors by the body each measures."""
+        return {p.options["body"]: p for p in self.processors.values()
+                if p.type == "force_sensor"}
+
     def controller_names(self) -> list:
         return [p.name for p in self.processors.values() if p.type == "qp_controller"]
 
@@ -253,7 +258,8 @@ def _assemble(description: WorldDescription) -> tuple:
         _, problems = check_processors(description.processors, None)
         raise DiagnosticError(error.diagnostics + problems) from None
     names = Names({n: g.joints for n, g in assembly.groups.items()}, set(assembly.joints),
-                  {j for j, info in assembly.joints.items() if info.dofs})
+                  {j for j, info in assembly.joints.items() if info.dofs},
+                  list(assembly.bodies))
     processors, problems = check_processors(description.processors, names)
     if problems:
         raise DiagnosticError(problems)

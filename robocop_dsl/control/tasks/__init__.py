@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from .base import Task, TaskSample
 from .body import BodyTask
+from .body_force import BodyForceTask
 from .body_orientation import BodyOrientationTask
 from .body_pose import BodyPoseTask
 from .body_position import BodyPositionTask
@@ -14,11 +15,12 @@ from .joint_velocity import JointVelocityTask
 
 TASKS: dict[str, type[Task]] = {
     cls.kind: cls for cls in (JointPositionTask, JointVelocityTask, BodyPositionTask,
-                              BodyOrientationTask, BodyPoseTask, BodyVelocityTask, GazeTask)
+                              BodyOrientationTask, BodyPoseTask, BodyVelocityTask, GazeTask,
+                              BodyForceTask)
 }
 
 __all__ = [
-    "BodyOrientationTask", "BodyPoseTask", "BodyPositionTask", "BodyTask",
+    "BodyForceTask", "BodyOrientationTask", "BodyPoseTask", "BodyPositionTask", "BodyTask",
     "BodyVelocityTask", "GazeTask", "JointPositionTask", "JointVelocityTask", "TASKS", "Task",
     "TaskSample",
 ]

@@ -158,6 +158,12 @@ class Task(ABC):
         raise InvalidParameter(self.label, "target", target, "no body target for this task")
 
     @property
+    def positional(self) -> bool:
+        """Whether the error is a distance to a position-like target [m or rad]: the
+        controller's Levenberg-Marquardt damping grows with it."""
+        return self.order == 0
+
+    @property
     def label(self) -> str:
         """``kind 'name'``, for messages."""
         return f"{self.kind} '{self.name}'"

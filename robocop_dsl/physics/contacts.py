@@ -1,0 +1,141 @@
+"""What the contacts of a MuJoCo simulation do to a body: the wrench it exerts on the
+environment, and whether two sets of bodies touch.
+
+A body's *carried set* is its kinematic subtree in MuJoCo (its fixed children, the
+links its joints carry: a hand's fingers) and every free body that an active weld
+(``attach``) ties to a member of the set, with what that body carries. Its wrench is the
+sum, over the active contacts between a geom of the set and a geom outside it, of the
+force the set exerts on the other geom: in the world frame, the torque about the body's
+origin, force [N] then torque [N m]. MuJoCo's contact normal points from ``geom1`` to
+``geom2`` and :func:`mujoco.mj_contactForce` gives the force ``geom1`` exerts on
+``geom2`` in the contact frame: a hand pressing down on a table exerts a force of
+negative ``z``.
+
+Contacts are those of the latest physics step; the wrenches of every body asked since
+the last step are computed together, once.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class ContactReader:
+    """Reads the contacts of ``data`` (a ``mujoco.MjData`` of ``model``).
+
+    Args:
+        mujoco: The ``mujoco`` module.
+        model: The ``mujoco.MjModel``.
+        data: Its ``mujoco.MjData``.
+        welds: ``{(free body, body): weld equality id}``, the welds ``attach`` turns on.
+    """
+
+    def __init__(self, mujoco, model, data, welds: dict):
+        self._mujoco = mujoco
+        self.model = model
+        self.data = data
+        self._ids = {model.body(i).name: i for i in range(model.nbody)}
+        self._subtrees = _subtrees(model.body_parentid)
+        pairs = [(self._ids[free], self._ids[body], weld)
+                 for (free, body), weld in welds.items()]
+        self._welds = np.array(pairs, dtype=int).reshape(-1, 3)
+        self._bodies: list = []
+        self._wrenches: dict = {}
+        self._sets: dict = {}
+
+    def invalidate(self) -> None:
+        """The physics moved on: read the contacts again on the next request."""
+        self._wrenches = {}
+
+    def body_id(self, body: str) -> int:
+        """MuJoCo's id of ``body``.
+
+        Raises:
+            KeyError: no such body in the simulation.
+        """
+        try:
+            return self._ids[body]
+        except KeyError:
+            raise KeyError(f"no body '{body}' in the simulation") from None
+
+    def wrench(self, body: str) -> np.ndarray:
+        """The wrench ``body`` and what it carries exert on the environment: ``[fx, fy,
+        fz, tx, ty, tz]`` [N, N m], world frame, torque about the body's origin."""
+        if body not in self._wrenches:
+            if body not in self._bodies:
+                self.body_id(body)
+                self._bodies.append(body)
+            self._wrenches = dict(zip(self._bodies, self._compute(self._bodies)))
+        return self._wrenches[body].copy()
+
+    def touching(self, first, second) -> bool:
+        """Whether an active contact joins a geom of a body of ``first`` and one of a
+        body of ``second`` (iterables of body names)."""
+        bodies1, bodies2, _ = self._contacts()
+        a, b = self._set(first), self._set(second)
+        return bool(np.any((a[bodies1] & b[bodies2]) | (b[bodies1] & a[bodies2])))
+
+    def carried(self, body: str) -> np.ndarray:
+        """Which bodies ``body`` carries now (itself included), a mask over MuJoCo's
+        bodies."""
+        carried = self._subtrees[self.body_id(body)].copy()
+        welds = self._welds[self.data.eq_active[self._welds[:, 2]].astype(bool)]
+        grown = True
+        while grown:
+            joined = welds[carried[welds[:, 1]] & ~carried[welds[:, 0]], 0]
+            for free in joined:
+                carried |= self._subtrees[free]
+            grown = len(joined) > 0
+        return carried
+
+    def _set(self, bodies) -> np.ndarray:
+        key = frozenset(bodies)
+        mask = self._sets.get(key)
+        if mask is None:
+            mask = np.zeros(self.model.nbody, dtype=bool)
+            mask[[self.body_id(b) for b in key]] = True
+            self._sets[key] = mask
+        return mask
+
+    def _contacts(self) -> tuple:
+        """The bodies of both geoms of each active contact, and the contacts' indices."""
+        contact, ncon = self.data.contact, self.data.ncon
+        active = np.flatnonzero(contact.efc_address[:ncon] >= 0)
+        geom_body = self.model.geom_bodyid
+        return (geom_body[contact.geom1[:ncon][active]],
+                geom_body[contact.geom2[:ncon][active]], active)
+
+    def _compute(self, bodies: list) -> list:
+        bodies1, bodies2, active = self._contacts()
+        signs = []
+        for body in bodies:
+            carried = self.carried(body)
+            inside1, inside2 = carried[bodies1], carried[bodies2]
+            signs.append(inside1.astype(float) - inside2)   # +1: geom1 is the body's
+        signs = np.array(signs).reshape(len(bodies), len(active))
+        used = np.flatnonzero(np.any(signs != 0, axis=0))
+        forces = np.zeros((len(used), 6))
+        for row, index in enumerate(active[used]):
+            self._mujoco.mj_contactForce(self.model, self.data, int(index), forces[row])
+        contact = self.data.contact
+        frames = contact.frame[active[used]].reshape(-1, 3, 3)
+        force = np.einsum("nij,ni->nj", frames, forces[:, :3])   # on geom2, world frame
+        torque = np.einsum("nij,ni->nj", frames, forces[:, 3:])
+        points = contact.pos[active[used]]
+        wrenches = []
+        for body, sign in zip(bodies, signs[:, used]):
+            on_environment = sign[:, None] * force
+            arm = points - self.data.xpos[self._ids[body]]
+            moment = sign[:, None] * torque + np.cross(arm, on_environment)
+            wrenches.append(np.concatenate([on_environment.sum(axis=0), moment.sum(axis=0)]))
+        return wrenches
+
+
+def _subtrees(parents: np.ndarray) -> np.ndarray:
+    """``subtrees[b]``: the mask of the bodies below body ``b`` in MuJoCo's tree (itself
+    included); ``parents`` gives each body's parent (body 0, the world, is its own)."""
+    count = len(parents)
+    masks = np.eye(count, dtype=bool)
+    for body in range(count - 1, 0, -1):     # a child's id is above its parent's
+        masks[parents[body]] |= masks[body]
+    return masks
