@@ -4,9 +4,11 @@ rename, outline, formatting and semantic highlighting."""
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 
 from lsprotocol import types
+from pygls.exceptions import JsonRpcInvalidParams
 from pygls.lsp.server import LanguageServer
 
 from .. import __version__
@@ -14,6 +16,18 @@ from . import completion, diagnostics, formatting, hover, navigation, semantic_t
 from .positions import one_based, path_to_uri, uri_to_path
 from .project import Project
 from .worlds import WorldStore
+
+
+class Refusals(logging.Filter):
+    """Drops pygls's log record (a traceback) of a request refused on purpose, such as
+    a rename to a name already taken: the client gets the reason as the answer."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        error = record.exc_info[1] if record.exc_info else None
+        return not isinstance(error, JsonRpcInvalidParams)
+
+
+REFUSALS = Refusals()
 
 
 class MissionServer(LanguageServer):
@@ -42,6 +56,7 @@ def build_server() -> MissionServer:
     """A server with every feature registered."""
     server = MissionServer()
     project = server.project
+    logging.getLogger("pygls.protocol.json_rpc").addFilter(REFUSALS)
 
     @server.feature(types.INITIALIZED)
     def initialized(ls: MissionServer, params: types.InitializedParams):

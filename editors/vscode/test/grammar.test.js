@@ -1,7 +1,9 @@
 // Tokenizes every mission of missions/ (or the files given) with the extension's
 // TextMate grammar, as VS Code does, and checks what a reader relies on: comments,
-// strings, reserved words, numbers and units get their scopes, and no construct runs
-// past the end of its line. Prints "N passed, N failed".
+// strings, reserved words, numbers and units get their scopes, a var's kind, the
+// measures force, torque and contact, the log text's {NAME} and the arithmetic
+// operators too, and no construct runs past the end of its line. Prints "N passed,
+// N failed".
 const fs = require("fs");
 const path = require("path");
 const textmate = require("vscode-textmate");
@@ -11,9 +13,12 @@ const here = __dirname;
 const repo = path.resolve(here, "..", "..", "..");
 const RESERVED = ["mission", "library", "import", "let", "behavior", "constraint", "task",
   "start", "state", "final", "parallel", "region", "when", "enter", "during", "exit",
-  "enable", "disable", "reset", "attach", "detach", "emit", "log"];
+  "enable", "disable", "reset", "attach", "detach", "emit", "log", "var"];
 const UNITS = new Set(["m", "cm", "mm", "rad", "deg", "s", "ms", "m/s", "cm/s", "mm/s",
-  "rad/s", "deg/s", "m/s^2", "rad/s^2", "deg/s^2", "m/s^3", "rad/s^3", "deg/s^3"]);
+  "rad/s", "deg/s", "m/s^2", "rad/s^2", "deg/s^2", "m/s^3", "rad/s^3", "deg/s^3",
+  "N", "kN", "mN", "Nm", "(m/s)/N", "(cm/s)/N", "(mm/s)/N"]);
+const KINDS = ["count", "scalar", "length", "angle", "duration", "force", "torque",
+  "linear_velocity", "angular_velocity", "position"];
 
 async function grammar() {
   const wasm = fs.readFileSync(require.resolve("vscode-oniguruma/release/onig.wasm"));
@@ -70,19 +75,38 @@ function problems(line, tokens) {
       found.push(`number '${word}' at ${at} is '${scope}'`);
     }
   }
-  for (const match of text.matchAll(/(?:\d|\])\s+((?:m|cm|mm|rad|deg)(?:\/s(?:\^[23])?)?|ms|s)(?![\w/^])/g)) {
+  for (const match of text.matchAll(/(?:\d|\])\s+((?:m|cm|mm|rad|deg)(?:\/s(?:\^[23])?)?|ms|s|k?N|mN|Nm|\((?:m|cm|mm)\/s\)\/N)(?![\w/^])/g)) {
     const at = offsets[match.index + match[0].length - match[1].length];
     if (UNITS.has(match[1]) && !scopeAt(at).includes("keyword.other.unit")) {
       found.push(`unit '${match[1]}' at ${at} is '${scopeAt(at)}'`);
+    }
+  }
+  const expect = (pattern, scope, what) => {
+    for (const match of text.matchAll(pattern)) {
+      const at = offsets[match.index + match[0].length - match[1].length];
+      if (!scopeAt(at).includes(scope)) found.push(`${what} '${match[1]}' at ${at} is '${scopeAt(at)}'`);
+    }
+  };
+  expect(/\bvar\s+\w+\s*:\s*(\w+)/g, "support.type", "kind");
+  expect(/\b(force|torque|contact|clearance)\s*\(/g, "support.function", "measure");
+  for (const match of line.matchAll(/\blog\s+"(?:[^"\\]|\\.)*?(\{\s*\w+\s*\})/g)) {
+    const at = match.index + match[0].length - match[1].length;
+    if (!scopeAt(at).includes("constant.other.placeholder")) found.push(`placeholder '${match[1]}' at ${at} is '${scopeAt(at)}'`);
+  }
+  for (const match of text.matchAll(/[-+*\/]/g)) {
+    const at = offsets[match.index];
+    if (!/keyword\.operator\.(arithmetic|arrow)|constant\.numeric|keyword\.other\.unit/.test(scopeAt(at))) {
+      found.push(`operator '${match[0]}' at ${at} is '${scopeAt(at)}'`);
     }
   }
   return found;
 }
 
 async function main() {
+  const missions = (folder) => fs.readdirSync(folder).filter((f) => f.endsWith(".mission"))
+    .sort().map((f) => path.join(folder, f));
   const files = process.argv.length > 2 ? process.argv.slice(2)
-    : fs.readdirSync(path.join(repo, "missions")).filter((f) => f.endsWith(".mission"))
-      .sort().map((f) => path.join(repo, "missions", f));
+    : [...missions(path.join(repo, "missions")), ...missions(path.join(repo, "tests", "fixtures", "lsp"))];
   const mission = await grammar();
   const base = mission.tokenizeLine("", textmate.INITIAL).ruleStack;
   let passed = 0, failed = 0;

@@ -7,12 +7,14 @@ const path = require("path");
 const textmate = require("vscode-textmate");
 const oniguruma = require("vscode-oniguruma");
 
-const COLOURS = [["comment", "#6a9955"], ["string", "#ce9178"], ["constant.numeric", "#b5cea8"],
+const COLOURS = [["comment", "#6a9955"], ["constant.other.placeholder", "#569cd6"],
+  ["string", "#ce9178"], ["constant.numeric", "#b5cea8"],
   ["keyword.other.unit", "#4ec9b0"], ["keyword.control", "#c586c0"], ["keyword", "#569cd6"],
   ["entity.name.type", "#4ec9b0"], ["entity.name.function", "#dcdcaa"],
   ["entity.name.class", "#4ec9b0"], ["variable.other.constant", "#4fc1ff"],
   ["variable.parameter", "#9cdcfe"], ["variable", "#9cdcfe"], ["constant.language", "#569cd6"],
-  ["support.variable", "#9cdcfe"], ["entity.name", "#dcdcaa"]];
+  ["support.variable", "#9cdcfe"], ["support.type", "#4ec9b0"], ["support.function", "#dcdcaa"],
+  ["entity.name", "#dcdcaa"]];
 const escape = (text) => text.replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/>/g, "&gt;");
 
 async function main() {

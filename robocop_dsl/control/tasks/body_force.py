@@ -34,7 +34,9 @@ class Admittance(FeedbackLoop):
                                      np.size(max_velocity), minimum=0.0, strict=True)
 
     def validate(self) -> None:
-        self.gain, self.max_velocity = self._gain, self._max
+        """Size the gain and the bound for the task's axes (one number broadcast)."""
+        one = (lambda values: values[0] if values.size == 1 else values)
+        self.gain, self.max_velocity = one(self._gain), one(self._max)
 
     def compute(self, error: np.ndarray) -> np.ndarray:
         return np.clip(self._gain * error, -self._max, self._max)
