@@ -136,9 +136,24 @@ class MissionGenerator:
             space, [f"position = [{position}] m", f"rpy = [{rpy}] deg"])
         return f"pose({', '.join(parts)})"
 
+    def force_task(self, name: str) -> tuple[str, str, str]:
+        """A body_force task on a sensed body, and a force target for it."""
+        rng = self.rng
+        axes = rng.sample("xyz", rng.randint(1, 3))
+        lines = [f"    gain = {rng.uniform(0.0002, 0.002):.4f} (m/s)/N",
+                 f"    max_velocity = {rng.uniform(0.005, 0.05):.3f} m/s",
+                 f"    axes = [{', '.join(axes)}]", f"    priority = {rng.randint(0, 2)}"]
+        target = "[" + ", ".join(f"{rng.uniform(-10, 10):.1f}" for _ in range(3)) + "] N"
+        body = "\n".join(lines)
+        return (f"task {name}: body_force({rng.choice(self.scene.sensed)}) {{\n{body}\n}}",
+                target, "body_force")
+
     def task(self, name: str) -> tuple[str, str, str]:
         """A task declaration, and a target assignment for it (``""`` for none)."""
-        kind = cat.TASKS.get(self.rng.choice(cat.TASKS.names()))
+        names = [n for n in cat.TASKS.names() if n != "body_force"]
+        if self.scene.sensed and self.rng.random() < 0.2:
+            return self.force_task(name)
+        kind = cat.TASKS.get(self.rng.choice(names))
         joint = kind.subject == cat.JOINT_GROUP
         subject = self.scene.group.name if joint else self.rng.choice(self.scene.tools)
         axes = self.scene.group.dofs if joint else cat.SPACE_AXES[kind.space]

@@ -124,6 +124,7 @@ def test_contacts_between_sets_of_bodies(resting):
     assert not resting.contact(["panda_hand", "panda_leftfinger"], ["table", "cube_body"])
     with pytest.raises(KeyError, match="no body 'cube' in the simulation"):
         resting.wrench("cube")
+    assert resting.wrench("cube_body")[2] == pytest.approx(-CUBE_MASS * G, abs=1e-4)
 
 
 def test_a_welded_part_is_carried_by_the_hand(press):

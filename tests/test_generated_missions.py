@@ -1,7 +1,8 @@
 """Property: missions generated for the bundled worlds (random parameter values within
-their declared ranges, random targets among the world's bodies, random state graphs)
-pass `check` and run 500 cycles with no exception escaping the run: a fault is an
-outcome, never a traceback."""
+their declared ranges, random targets among the world's bodies, random state graphs,
+vars assigned from measures, conditions on vars, positions and forces) pass `check`
+and run 500 cycles with no exception escaping the run: a fault is an outcome, never a
+traceback. The Panda press world runs in physics, with a force sensor."""
 
 import numpy as np
 import pytest
@@ -13,7 +14,7 @@ from robocop_dsl.world import load_world
 from mission_generator import MissionGenerator, Scene
 
 WORLDS = ("panda/panda_on_table.yaml", "bazar/sophia.yaml", "kinova/jaco.yaml",
-          "ur5/ur5_on_table.yaml")
+          "ur5/ur5_on_table.yaml", "panda/panda_press.yaml")
 SEEDS = range(8)
 CYCLES = 500
 OUTCOMES = {"success", "failure", "fault", "stopped"}

@@ -40,3 +40,54 @@ def test_canonical_layout():
 def test_format_number(value, text):
     """Numbers print in their shortest exact form."""
     assert format_number(value) == text
+
+
+@pytest.mark.parametrize("written, canonical", [
+    ("a - (b - c)", "a - (b - c)"), ("(a - b) - c", "a - b - c"),
+    ("a + (b + c)", "a + (b + c)"), ("(a * b) + c", "a * b + c"),
+    ("(a + b) * c", "(a + b) * c"), ("a / (b * c)", "a / (b * c)"), ("a / b / c", "a / b / c"),
+    ("-x * y", "-x * y"), ("-(x * y)", "-(x * y)"), ("- (x+y)", "-(x + y)"),
+    ("- 1 m", "-(1 m)"), ("-1 m", "-1 m"), ("2 * -3 mm", "2 * -3 mm"), ("1 - - 2", "1 - -(2)"),
+    ("((x))", "x"), ("2*(1 cm+0.5 cm)", "2 * (1 cm + 0.5 cm)"),
+    ("0.002 (m/s)/N * (force(hand).z - -9 N)", "0.002 (m/s)/N * (force(hand).z - -9 N)"),
+    ("torque(hand) / (1 m)", "torque(hand) / 1 m"),
+    ("hand.position.z-target.position.z + tool.error",
+     "hand.position.z - target.position.z + tool.error"),
+    ("hand.position - [0, 0, 1] cm", "hand.position - [0, 0, 1] cm"),
+    ("-[1, 2, 3] m", "-[1, 2, 3] m"),
+    ("distance(a, b) / (time - start)", "distance(a, b) / (time - start)"),
+    ("clearance(a, b)*2", "clearance(a, b) * 2"),
+])
+def test_expression_round_trip(written, canonical):
+    """An expression prints with the parentheses its tree needs and no others, and a
+    negated number stays negated (``-1`` alone is a number): it reads back the same."""
+    tree = parse_mission(f"var v: scalar = {written}\n").mission
+    text = format_mission(tree)
+    assert text == f"var v: scalar = {canonical}\n"
+    assert parse_mission(text).mission == tree
+
+
+def test_vars_measures_and_log_texts():
+    """Vars at the top and in a behaviour, assignments, force, torque and contact
+    conditions, comparisons with a var, and log texts with their ``{NAME}`` print in
+    canonical form and read back the same."""
+    text = ('mission m\nworld "panda/panda_press.yaml"\nvar n : count=0\nvar z: length\n'
+            "behavior b(t: task) {\n var since: duration = time\n start s\n"
+            "state s { when t.reached and torque( hand )>limit-> f {n=n+1} }\nfinal f\n}\n"
+            "state touch { during {z=hand.position.z}\n"
+            "when force(hand).z< -9 N or contact(hand,table) -> up { log \"n: {n}, z {z}\" } }\n"
+            "state up { when hand.position.z > z -> touch\nwhen elapsed>z_limit->touch }\n")
+    parsed = parse_mission(text)
+    assert parsed.ok
+    tree = parsed.mission
+    assert format_mission(tree) == (
+        'mission m\n\nworld "panda/panda_press.yaml"\nvar n: count = 0\nvar z: length\n\n'
+        "behavior b(t: task) {\n    var since: duration = time\n    start s\n\n"
+        "    state s {\n        when t.reached and torque(hand) > limit -> f {\n"
+        "            n = n + 1\n        }\n    }\n\n    final f\n}\n\n"
+        "state touch {\n    during {\n        z = hand.position.z\n    }\n"
+        "    when force(hand).z < -9 N or contact(hand, table) -> up {\n"
+        '        log "n: {n}, z {z}"\n    }\n}\n\n'
+        "state up {\n    when hand.position.z > z -> touch\n"
+        "    when elapsed > z_limit -> touch\n}\n")
+    assert parse_mission(format_mission(tree)).mission == tree

@@ -65,8 +65,9 @@ class ContactReader:
         fz, tx, ty, tz]`` [N, N m], world frame, torque about the body's origin."""
         if body not in self._wrenches:
             if body not in self._bodies:
+                self._ids_asked = np.append(self._ids_asked, self.body_id(body))
                 self._bodies.append(body)
-                self._ids_asked = np.array([self.body_id(b) for b in self._bodies])
+                self._carried = {}
             self._wrenches = dict(zip(self._bodies, self._compute()))
         return self._wrenches[body].copy()
 
@@ -80,20 +81,21 @@ class ContactReader:
     def carried(self, body: str) -> np.ndarray:
         """Which bodies ``body`` carries now (itself included), a mask over MuJoCo's
         bodies."""
-        active = self.data.eq_active[self._welds[:, 2]].astype(bool)
-        key = (body, active.tobytes())
-        carried = self._carried.get(key)
-        if carried is None:
-            carried = self._subtrees[self.body_id(body)].copy()
-            welds = self._welds[active]
-            grown = True
-            while grown:
-                joined = welds[carried[welds[:, 1]] & ~carried[welds[:, 0]], 0]
-                for free in joined:
-                    carried |= self._subtrees[free]
-                grown = len(joined) > 0
-            self._carried[key] = carried
-        return carried
+        return self._carried_by(body, self._active_welds()).astype(bool)
+
+    def _active_welds(self) -> np.ndarray:
+        return self._welds[self.data.eq_active[self._welds[:, 2]].astype(bool)]
+
+    def _carried_by(self, body: str, welds: np.ndarray) -> np.ndarray:
+        """:meth:`carried` as 0 and 1 (int8), with the active ``welds``."""
+        carried = self._subtrees[self.body_id(body)].copy()
+        grown = True
+        while grown:
+            joined = welds[carried[welds[:, 1]] & ~carried[welds[:, 0]], 0]
+            for free in joined:
+                carried |= self._subtrees[free]
+            grown = len(joined) > 0
+        return carried.astype(np.int8)
 
     def _set(self, bodies) -> np.ndarray:
         key = frozenset(bodies)
@@ -108,36 +110,45 @@ class ContactReader:
         """The bodies of both geoms of each active contact, and the contacts' indices."""
         contact = self.data.contact
         active = np.flatnonzero(contact.efc_address >= 0)
-        geom_body = self.model.geom_bodyid
-        return geom_body[contact.geom1[active]], geom_body[contact.geom2[active]], active
+        pairs = self.model.geom_bodyid[contact.geom[active]]
+        return pairs[:, 0], pairs[:, 1], active
 
     def _compute(self) -> np.ndarray:
         """The wrenches of the bodies asked so far, one row each."""
-        bodies1, bodies2, active = self._contacts()
-        carried = np.array([self.carried(body) for body in self._bodies])
-        signs = carried[:, bodies1].astype(float) - carried[:, bodies2]  # +1: geom1 is theirs
+        welds = self._active_welds()
+        key = welds.tobytes()
+        carried = self._carried.get(key)
+        if carried is None:
+            carried = np.array([self._carried_by(body, welds) for body in self._bodies])
+            self._carried = {key: carried}
+        contact = self.data.contact
+        active = contact.efc_address >= 0
+        inside = carried[:, self.model.geom_bodyid[contact.geom]]     # bodies x contacts x 2
+        signs = (inside[:, :, 0] - inside[:, :, 1]) * active           # +1: geom1 is theirs
         used = np.flatnonzero(signs.any(axis=0))
         wrenches = np.zeros((len(self._bodies), 6))
         if not len(used):
             return wrenches
-        indices, signs = active[used], signs[:, used]
-        local = np.empty((len(indices), 6))
-        for row, index in enumerate(indices):
+        local = np.empty((len(used), 6))
+        for row, index in enumerate(used):
             self._mujoco.mj_contactForce(self.model, self.data, int(index), local[row])
-        contact = self.data.contact
-        on_geom2 = local.reshape(-1, 2, 3) @ contact.frame[indices].reshape(-1, 3, 3)
-        force, torque = on_geom2[:, 0], on_geom2[:, 1]        # world frame
+        on_geom2 = local.reshape(-1, 2, 3) @ contact.frame[used].reshape(-1, 3, 3)
+        signs = signs[:, used].astype(float)
+        force = on_geom2[:, 0]                                          # world frame
         wrenches[:, :3] = signs @ force
-        moments = _cross(contact.pos[indices], force)        # about the world's origin
-        origins = self.data.xpos[self._ids_asked]
-        wrenches[:, 3:] = signs @ (torque + moments) - _cross(origins, wrenches[:, :3])
+        about_origin = on_geom2[:, 1] + _cross(contact.pos[used], force)
+        wrenches[:, 3:] = signs @ about_origin - _cross(self.data.xpos[self._ids_asked],
+                                                        wrenches[:, :3])
         return wrenches
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross products of two n x 3 arrays (``np.cross`` costs tens of
     microseconds on a few rows)."""
-    return (a[:, [1, 2, 0]] * b[:, [2, 0, 1]]) - (a[:, [2, 0, 1]] * b[:, [1, 2, 0]])
+    return a[:, _NEXT] * b[:, _LAST] - a[:, _LAST] * b[:, _NEXT]
+
+
+_NEXT, _LAST = [1, 2, 0], [2, 0, 1]
 
 
 def _subtrees(parents: np.ndarray) -> np.ndarray:
