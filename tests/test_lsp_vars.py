@@ -1,6 +1,7 @@
 """The language server and run-time values, driven by a real LSP client over stdio:
 completion of vars and kinds, hover, references across a behaviour and the top level,
-rename (done and refused), semantic tokens, outline."""
+rename (done and refused), semantic tokens, outline, the bodies of force, torque and
+contact; and every position of missions with vars answered, as written and half typed."""
 
 import re
 import sys
@@ -9,14 +10,17 @@ from pathlib import Path
 import pytest
 import pytest_lsp
 from lsprotocol import types
-from pygls.exceptions import JsonRpcException
+from pygls.exceptions import JsonRpcException, JsonRpcInvalidParams
 from pytest_lsp import ClientServerConfig, LanguageClient
 
+from robocop_dsl.lsp import completion, hover, navigation, semantic_tokens, symbols
+from robocop_dsl.lsp.project import Project
 from robocop_dsl.lsp.semantic_tokens import TOKEN_TYPES
 
 REPO = Path(__file__).resolve().parent.parent
 FOLDER = REPO / "tests" / "fixtures" / "lsp"
 MISSION = FOLDER / "counting.mission"
+PRESSING = FOLDER / "pressing.mission"
 LINES = MISSION.read_text().splitlines()
 
 
@@ -30,12 +34,13 @@ async def client(lsp_client: LanguageClient):
     await lsp_client.shutdown_session()
 
 
-async def open_document(client: LanguageClient, text: str | None = None) -> str:
-    """Open the mission (with ``text`` instead of its own) and wait for its
+async def open_document(client: LanguageClient, text: str | None = None,
+                        path: Path = MISSION) -> str:
+    """Open the mission at ``path`` (with ``text`` instead of its own) and wait for its
     diagnostics."""
-    uri = MISSION.as_uri()
+    uri = path.as_uri()
     client.text_document_did_open(types.DidOpenTextDocumentParams(types.TextDocumentItem(
-        uri, "mission", 1, MISSION.read_text() if text is None else text)))
+        uri, "mission", 1, path.read_text() if text is None else text)))
     await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
     return uri
 
@@ -193,3 +198,54 @@ async def test_outline_lists_vars(client: LanguageClient):
     lift = top["up"].children[0]
     assert (lift.name, lift.children[0].name, lift.children[0].detail) == \
         ("lift", "lifted", "var: length")
+
+
+@pytest.mark.asyncio
+async def test_bodies_of_force_torque_and_contact(client: LanguageClient):
+    """The body of ``force(...)`` hovers as a body, and its references include the
+    bodies of ``torque(...)``, ``contact(...)`` and ``BODY.position``."""
+    uri = await open_document(client, path=PRESSING)
+    lines = PRESSING.read_text().splitlines()
+    number = next(n for n, line in enumerate(lines) if "force(panda_hand).z <" in line)
+    use = types.Position(number, lines[number].index("panda_hand"))
+    found = await client.text_document_hover_async(types.HoverParams(
+        types.TextDocumentIdentifier(uri), use))
+    assert "**panda_hand** (body)" in found.contents.value
+    references = await client.text_document_references_async(types.ReferenceParams(
+        text_document=types.TextDocumentIdentifier(uri), position=use,
+        context=types.ReferenceContext(include_declaration=True)))
+    places = {(r.range.start.line, r.range.start.character) for r in references
+              if r.uri == uri}
+    expected = {(n, m.start()) for n, line in enumerate(lines)
+                for m in re.finditer(r"\bpanda_hand\b", line)}
+    assert places == expected
+    assert any("contact(panda_hand" in lines[n] for n, _ in places)
+
+
+@pytest.mark.parametrize("path", [MISSION, PRESSING], ids=lambda p: p.name)
+def test_every_position_answers(path):
+    """Hover, definition, references, rename and completion answer at every position of
+    a mission with vars, and of its lines cut half way as while typing; the outline and
+    the semantic tokens of each state of the text too."""
+    text = path.read_text()
+    lines = text.split("\n")
+    project = Project()
+    for number in range(len(lines) + 1):
+        cut = lines[number][:len(lines[number]) // 2] if number < len(lines) else ""
+        variant = text if number == len(lines) else "\n".join(
+            [*lines[:number], cut, *lines[number + 1:]])
+        project.open[path] = variant
+        parsed = project.parsed(path)
+        symbols.document_symbols(parsed.tree)
+        semantic_tokens.semantic_tokens(project, parsed)
+        where = range(len(lines)) if number == len(lines) else [number]
+        for line in where:
+            written = variant.split("\n")[line]
+            for column in range(len(written) + 1):
+                completion.complete(project, path, line, column)
+                hover.hover(project, path, line + 1, column + 1)
+                navigation.definition(project, path, line + 1, column + 1)
+                if navigation.prepare_rename(project, path, line + 1, column + 1):
+                    with pytest.raises(JsonRpcInvalidParams):
+                        navigation.rename(project, path, line + 1, column + 1, "2nd")
+                    navigation.rename(project, path, line + 1, column + 1, "fresh_name")

@@ -143,9 +143,8 @@ class _Names:
         of the machines (behaviour bodies, regions) around it."""
         seen = []
         for declared in self.vars:
-            machine = declared.machines[0]
-            span = machine.span
-            if len(declared.machines) == 1 and declared.behavior is None \
+            span = declared.machines[0].span
+            if (len(declared.machines) == 1 and declared.behavior is None) \
                     or span.line <= line <= span.end_line:
                 seen.append(types.CompletionItem(declared.text, kind=Item.Variable,
                                                  detail=f"var: {declared.node.kind.text}"))

@@ -11,8 +11,8 @@ origin, force [N] then torque [N m]. MuJoCo's contact normal points from ``geom1
 ``geom2`` in the contact frame: a hand pressing down on a table exerts a force of
 negative ``z``.
 
-Contacts are those of the latest physics step; the wrenches of every body asked since
-the last step are computed together, once.
+Contacts are those of the latest physics step; the wrenches of every body asked so far
+are computed together, once per step.
 """
 
 from __future__ import annotations
@@ -39,8 +39,8 @@ class ContactReader:
         pairs = [(self._ids[free], self._ids[body], weld)
                  for (free, body), weld in welds.items()]
         self._welds = np.array(pairs, dtype=int).reshape(-1, 3)
-        self._bodies: list = []
-        self._ids_asked = np.zeros(0, dtype=int)
+        self._bodies: list = []            # the bodies asked so far, computed together
+        self._body_ids = np.zeros(0, dtype=int)
         self._wrenches: dict = {}
         self._sets: dict = {}
         self._carried: dict = {}
@@ -65,7 +65,7 @@ class ContactReader:
         fz, tx, ty, tz]`` [N, N m], world frame, torque about the body's origin."""
         if body not in self._wrenches:
             if body not in self._bodies:
-                self._ids_asked = np.append(self._ids_asked, self.body_id(body))
+                self._body_ids = np.append(self._body_ids, self.body_id(body))
                 self._bodies.append(body)
                 self._carried = {}
             self._wrenches = dict(zip(self._bodies, self._compute()))
@@ -81,13 +81,13 @@ class ContactReader:
     def carried(self, body: str) -> np.ndarray:
         """Which bodies ``body`` carries now (itself included), a mask over MuJoCo's
         bodies."""
-        return self._carried_by(body, self._active_welds()).astype(bool)
+        return self._carried_by(body, self._active_welds())
 
     def _active_welds(self) -> np.ndarray:
         return self._welds[self.data.eq_active[self._welds[:, 2]].astype(bool)]
 
     def _carried_by(self, body: str, welds: np.ndarray) -> np.ndarray:
-        """:meth:`carried` as 0 and 1 (int8), with the active ``welds``."""
+        """:meth:`carried`, with the active ``welds`` (free body, body, weld) rows."""
         carried = self._subtrees[self.body_id(body)].copy()
         grown = True
         while grown:
@@ -95,7 +95,7 @@ class ContactReader:
             for free in joined:
                 carried |= self._subtrees[free]
             grown = len(joined) > 0
-        return carried.astype(np.int8)
+        return carried
 
     def _set(self, bodies) -> np.ndarray:
         key = frozenset(bodies)
@@ -115,17 +115,17 @@ class ContactReader:
 
     def _compute(self) -> np.ndarray:
         """The wrenches of the bodies asked so far, one row each."""
-        welds = self._active_welds()
-        key = welds.tobytes()
+        key = self.data.eq_active.tobytes()
         carried = self._carried.get(key)
         if carried is None:
-            carried = np.array([self._carried_by(body, welds) for body in self._bodies])
+            welds = self._active_welds()
+            carried = np.array([self._carried_by(body, welds) for body in self._bodies],
+                               dtype=float)
             self._carried = {key: carried}
         contact = self.data.contact
-        active = contact.efc_address >= 0
         inside = carried[:, self.model.geom_bodyid[contact.geom]]     # bodies x contacts x 2
-        signs = (inside[:, :, 0] - inside[:, :, 1]) * active           # +1: geom1 is theirs
-        used = np.flatnonzero(signs.any(axis=0))
+        signs = (inside[:, :, 0] - inside[:, :, 1]) * (contact.efc_address >= 0)
+        used = np.flatnonzero(signs.any(axis=0))                      # +1: geom1 is theirs
         wrenches = np.zeros((len(self._bodies), 6))
         if not len(used):
             return wrenches
@@ -133,22 +133,21 @@ class ContactReader:
         for row, index in enumerate(used):
             self._mujoco.mj_contactForce(self.model, self.data, int(index), local[row])
         on_geom2 = local.reshape(-1, 2, 3) @ contact.frame[used].reshape(-1, 3, 3)
-        signs = signs[:, used].astype(float)
+        signs = signs[:, used]
         force = on_geom2[:, 0]                                          # world frame
         wrenches[:, :3] = signs @ force
-        about_origin = on_geom2[:, 1] + _cross(contact.pos[used], force)
-        wrenches[:, 3:] = signs @ about_origin - _cross(self.data.xpos[self._ids_asked],
-                                                        wrenches[:, :3])
+        moments = _cross(np.concatenate((contact.pos[used], self.data.xpos[self._body_ids])),
+                         np.concatenate((force, wrenches[:, :3])))
+        wrenches[:, 3:] = signs @ (on_geom2[:, 1] + moments[:len(used)]) \
+            - moments[len(used):]                                       # about each origin
         return wrenches
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross products of two n x 3 arrays (``np.cross`` costs tens of
     microseconds on a few rows)."""
-    return a[:, _NEXT] * b[:, _LAST] - a[:, _LAST] * b[:, _NEXT]
-
-
-_NEXT, _LAST = [1, 2, 0], [2, 0, 1]
+    a, b = np.concatenate((a, a), axis=1), np.concatenate((b, b), axis=1)
+    return a[:, 1:4] * b[:, 2:5] - a[:, 2:5] * b[:, 1:4]
 
 
 def _subtrees(parents: np.ndarray) -> np.ndarray:

@@ -68,11 +68,6 @@ class Sensors:
         """The bodies that have a sensor, in the world's order of processors."""
         return tuple(sensor.body for sensor in self.sensors)
 
-    @property
-    def measured(self) -> bool:
-        """Whether the sensors have a reading (the driver measures wrenches)."""
-        return self._read
-
     def update(self, driver, time_step: float) -> None:
         """Read every sensor from ``driver`` (just read) and filter; ``time_step`` [s]
         is the time since the previous update.
