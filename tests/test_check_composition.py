@@ -51,7 +51,7 @@ def test_a_problem_in_a_behaviour_names_the_instance_that_exposed_it():
     result = check_file(path, cache=CACHE)
     rendered = _only(result, "wrong-dimension")[0].render()
     assert f"= note: in approach(left_tool, pickup_point) at {path}:25:13" in rendered
-    assert " 13 |         when tool.reached and tool.error < 1 s -> down" in rendered
+    assert " 13 |         when tool.reached and tool.position_error < 1 s -> down" in rendered
 
 
 def test_a_problem_in_an_imported_behaviour_is_reported_in_its_file():
@@ -68,7 +68,7 @@ def test_nested_instances_give_one_note_each_innermost_first(tmp_path):
         library lib "Behaviours in behaviours."
         behavior inner(tool: task) {
             state going {
-                when tool.error < 1 s -> there
+                when tool.position_error < 1 s -> there
             }
             final there
         }

@@ -31,11 +31,11 @@ behavior approach(tool: task, point: body, height: length = 10 cm) {
     start above
     state above {
         enter { tool.target = point offset [0, 0, height] }
-        when tool.reached and tool.error < 2 mm -> down
+        when tool.reached and tool.position_error < 2 mm -> down
     }
     state down {
         enter { tool.target = point }
-        when tool.reached and tool.error < 1 mm -> arrived
+        when tool.reached and tool.position_error < 1 mm -> arrived
     }
     when elapsed > 15 s -> missed
     final arrived
@@ -207,7 +207,7 @@ def test_mermaid_composite_states(composite, capsys):
     pick = _block(out, "    state pick {")
     assert pick[0] == "        [*] --> pick_above"
     assert '        state "above" as pick_above' in pick
-    assert "        pick_above --> pick_down : left_tool.reached and left_tool.error #lt; 2 mm" \
+    assert "        pick_above --> pick_down : left_tool.reached and left_tool.position_error #lt; 2 mm" \
         in pick
     assert "        __any_pick --> pick_missed : elapsed #gt; 15 s" in pick
     assert "        pick_arrived --> [*]" in pick

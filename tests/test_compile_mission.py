@@ -81,10 +81,10 @@ def test_transitions_in_order_then_guards(pickup):
     assert (machine.path, machine.start, list(machine.states)) == (
         "approach", "moving", ["moving", "there", "late"])
     first = pickup.states["approach/moving"].transitions[0]
-    assert first.text == "left_tool.reached and left_tool.error < 2 mm"
+    assert first.text == "left_tool.reached and left_tool.position_error < 2 mm"
     assert first.condition == spec.AllCondition((
         spec.ReachedCondition("left_tool"),
-        spec.CompareCondition(spec.TaskMeasure("left_tool", "error"), "<", 0.002)))
+        spec.CompareCondition(spec.TaskMeasure("left_tool", "position_error"), "<", 0.002)))
     assert pickup.states["done"].transitions == ()
     assert pickup.states["failed"].outcome == "failure"
 
@@ -131,11 +131,11 @@ def test_graph_drawings(pickup):
     assert '"__start" -> "goto_initial_pose";' in dot
     assert '"failed" [shape=doublecircle, color=red];' in dot
     assert '"approach/moving" -> "approach/there" [label="left_tool.reached and ' \
-        'left_tool.error < 2 mm"];' in dot
+        'left_tool.position_error < 2 mm"];' in dot
     assert dot.count("controller.failed") == 1
     mermaid = to_mermaid(pickup.graph)
     assert mermaid.startswith("stateDiagram-v2\n    [*] --> goto_initial_pose\n")
-    assert "approach_moving --> approach_there : left_tool.reached and left_tool.error " \
+    assert "approach_moving --> approach_there : left_tool.reached and left_tool.position_error " \
         "#lt; 2 mm\n" in mermaid
     assert "    __any --> failed : controller.failed\n" in mermaid
     assert "    done --> [*]\n" in mermaid

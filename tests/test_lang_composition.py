@@ -26,11 +26,11 @@ behavior approach(tool: task, point: body, height: length = approach_height) {
     start above
     state above {
         enter { tool.target = point offset [0, 0, height] }
-        when tool.reached and tool.error < 2 mm -> down
+        when tool.reached and tool.position_error < 2 mm -> down
     }
     state down {
         enter { tool.target = point }
-        when tool.reached and tool.error < 1 mm -> arrived
+        when tool.reached and tool.position_error < 1 mm -> arrived
     }
     when elapsed > 15 s -> missed         # a behaviour's top-level `when` guards its states
     final arrived                         # outcomes: the finals of its machine

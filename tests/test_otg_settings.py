@@ -74,7 +74,7 @@ def test_body_target_assigned_every_cycle_is_followed(tmp_path):
         }
         state second {
             during { tool.target = pickup_point offset [0, 0, 10] cm }
-            when tool.reached and tool.error < 2 mm -> done
+            when tool.reached and tool.position_error < 2 mm -> done
             when elapsed > 20 s -> late
         }
         final done

@@ -9,12 +9,12 @@ import networkx as nx
 from ..diagnostics import SourceFile
 from ..lang import ast
 from .context import CheckContext
-from .controllers import check_assignment
+from .controllers import check_assignment, check_driven
 from .declarations import check_controller, check_declarations, check_header, collect_symbols
 from .expand import Expander
 from .graph_checks import check_behavior_graph, check_state_graph
 from .imports import merge_imports
-from .joint_limits import check_joint_limits
+from .joint_limits import check_joint_limits, check_start_posture
 from .regions import check_regions
 from .states import check_machine, check_machines
 from .variables import check_reads
@@ -40,7 +40,9 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None,
     ctx.all_states = state_names(expanded.machine)
     check_declarations(ctx, expanded)
     check_joint_limits(ctx, expanded)
+    check_start_posture(ctx, expanded)
     check_assignment(ctx, expanded)
+    check_driven(ctx, expanded)
     check_machines(ctx, expanded)
     check_reads(ctx, expanded.machine)
     check_regions(ctx, expanded.machine)

@@ -314,6 +314,12 @@ def _member_dimensions(ctx: CheckContext, measure: ast.Member) -> tuple[str, ...
         ctx.error("unknown-field", f"a {subject.kind.name} task has no '{field}'",
                   measure.field.span, "it has: " + ", ".join(TASK_FLAGS + allowed))
         return None
+    if field == "error" and subject.space == POSE_SPACE:
+        ctx.error("mixed-error", f"'{measure.owner.text}.error' mixes metres and radians: "
+                  "a pose task's error joins its position and orientation errors",
+                  measure.field.span, f"compare {measure.owner.text}.position_error with a "
+                  f"length and {measure.owner.text}.orientation_error with an angle")
+        return None
     if field == "position_error":
         return (LENGTH,)
     if field == "orientation_error" or subject.space == GAZE_SPACE:

@@ -116,3 +116,48 @@ def _report_none(ctx: CheckContext, decl, controllers: list[str]) -> None:
 
 def _what(decl) -> str:
     return "task" if isinstance(decl, ast.TaskDecl) else "constraint"
+
+
+def check_driven(ctx: CheckContext, mission: ast.Mission) -> None:
+    """With one controller, every joint group a task or constraint names is driven by
+    it, every body a task moves is moved by its joints, and a ``body_pose`` task has the
+    six directions it asks for."""
+    if not ctx.world.known:
+        return
+    controllers = mission_controllers(ctx.world, mission)
+    if len(controllers) != 1 or controllers[0] not in ctx.world.controller_names():
+        return
+    controller = controllers[0]
+    driven = ctx.world.controller_joints(controller)
+    group = ctx.world.controller_group(controller)
+    if not driven:
+        return
+    for decl in mission.tasks + mission.constraints:
+        registry = TASKS if isinstance(decl, ast.TaskDecl) else CONSTRAINTS
+        kind = registry.get(decl.kind.text)
+        if kind is None or kind.subject == COLLISION_SETS or len(decl.arguments) != 1 \
+                or not _known_subject(ctx.world, decl):
+            continue
+        subject = decl.arguments[0]
+        if kind.subject == JOINT_GROUP:
+            outside = sorted(ctx.world.group_joints(subject.text) - driven)
+            if outside:
+                ctx.error("not-driven", f"'{subject.text}' has joints that controller "
+                          f"'{controller}' does not drive: {', '.join(outside)}",
+                          subject.span, f"'{controller}' drives the joint group '{group}': "
+                          "name a group inside it, or give the controller a group that "
+                          "holds these joints (the world's joint_groups)")
+        elif isinstance(decl, ast.TaskDecl):
+            moving = ctx.world.body_joints(subject.text) & driven
+            if not moving:
+                ctx.error("not-driven", f"no joint that controller '{controller}' drives "
+                          f"moves '{subject.text}'", subject.span,
+                          f"'{controller}' drives the joint group '{group}': the task "
+                          "could never move this body")
+            elif kind.name == "body_pose":
+                dofs = sum(ctx.world.world.joint(j).dofs for j in moving)
+                if dofs < 6:
+                    ctx.warning("few-dofs", f"only {dofs} driven dofs move "
+                                f"'{subject.text}': a body_pose task asks for 6 directions",
+                                decl.kind.span, "it cannot reach every pose: use "
+                                "body_position or body_orientation, or drive more joints")

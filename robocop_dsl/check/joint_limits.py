@@ -51,3 +51,27 @@ def _compare(ctx: CheckContext, decl: ast.ConstraintDecl, value: ast.Value, join
                 f"of joint '{names[first]}': {given[first]:.4g} > "
                 f"{joints.max_velocity[first]:.4g} {unit}{more}", value.span,
                 "the URDF's limit wins: a joint never goes faster than the lower of the two")
+
+
+def check_start_posture(ctx: CheckContext, mission: ast.Mission) -> None:
+    """Warn, at the mission's ``world`` line, for each revolute or prismatic joint the
+    world starts outside its URDF position limits [rad or m]: the run would begin past
+    a limit (the controller then only brings the joint back)."""
+    declared = mission.first(ast.WorldDecl)
+    world = ctx.world.world if ctx.world.known else None
+    if world is None or declared is None:
+        return
+    model, start = world.model, world.initial_configuration()
+    for name in world.joint_names():
+        info = world.joint(name)
+        if info.type not in ("revolute", "prismatic"):
+            continue
+        value = float(start[model.joints[model.getJointId(name)].idx_q])
+        low, high = float(info.lower[0]), float(info.upper[0])
+        if low - 1e-9 <= value <= high + 1e-9:
+            continue
+        bound, side = (low, "lower") if value < low else (high, "upper")
+        ctx.warning("start-outside-limits", f"the world starts joint '{name}' at "
+                    f"{value:.4g}, past its {side} limit {bound:.4g}", declared.span,
+                    "give it a start within its limits in the world's initial: (a joint "
+                    "whose zero lies outside its range needs one)")

@@ -10,8 +10,9 @@ def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "plot", help="plot a run logged with 'run --log DIR'",
         description="Write joint positions, velocity commands (one panel per joint "
-                    "group) and task errors (one panel per unit) as PNG or SVG figures, "
-                    "under a strip of the states with one row per machine.")
+                    "group), task errors (one panel per unit) and, with force sensors, "
+                    "forces (one panel per sensor) as PNG or SVG figures, under a strip "
+                    "of the states with one row per machine.")
     parser.add_argument("log", help="the folder given to 'run --log'")
     parser.add_argument("--output", "-o", help="folder for the figures (default: LOG)")
     parser.add_argument("--format", choices=("png", "svg"), default="png",

@@ -8,7 +8,7 @@ Every frame is a 24-byte header followed by a payload, all little-endian (see
 Kinds: ``HELLO`` (robot -> driver, once, on connection), ``STATE`` (robot -> driver,
 every robot cycle), ``COMMAND`` (driver -> robot, every controller cycle). A robot with
 force sensors names their bodies in its ``HELLO`` and appends one wrench per sensor to
-each ``STATE``; one without sends neither, as before.
+each ``STATE``; one without sends neither.
 """
 
 from __future__ import annotations

@@ -1,18 +1,28 @@
-"""Between the checker's places (1-based lines and columns, end exclusive) and the
-protocol's (0-based), and between file paths and URIs."""
+"""Places between the checker and the editor, and between file paths and URIs.
+
+Inside the server a place is a :class:`~robocop_dsl.diagnostics.Span` (1-based lines,
+columns counted in characters, end exclusive) or a protocol range with 0-based lines
+and character columns, as :func:`to_range` builds it. On the wire a column counts code
+units of the encoding the client and the server agreed on at initialization (UTF-8,
+UTF-16 or UTF-32): :class:`Encoding` converts both ways with the text of the file the
+place is in, and refuses a request's position that is not in its document.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Callable
 
 from lsprotocol import types
+from pygls.exceptions import JsonRpcInvalidParams
 from pygls.uris import from_fs_path, to_fs_path
+from pygls.workspace.position_codec import Utf16, impls
 
-from ..diagnostics import Span
+from ..diagnostics import SourceFile, Span
 
 
 def to_range(span: Span | None) -> types.Range:
-    """The protocol range of ``span``; the start of the file when there is none."""
+    """The range of ``span`` in characters; the start of the file when there is none."""
     if span is None or span.line <= 0:
         return types.Range(types.Position(0, 0), types.Position(0, 0))
     return types.Range(types.Position(span.line - 1, max(span.column - 1, 0)),
@@ -31,11 +41,6 @@ def uri_to_path(uri: str) -> Path:
     return Path(to_fs_path(uri) or uri).resolve()
 
 
-def one_based(position: types.Position) -> tuple[int, int]:
-    """``(line, column)`` of a protocol position, 1-based."""
-    return position.line + 1, position.character + 1
-
-
 def file_line(where: str) -> tuple[Path, Span] | None:
     """``FILE:LINE`` (as the world loader records where a body or joint is written) as
     a path and the span of that line's start."""
@@ -43,3 +48,77 @@ def file_line(where: str) -> tuple[Path, Span] | None:
     if not path or not line.isdigit():
         return None
     return Path(path), Span.point(int(line))
+
+
+class Encoding:
+    """Columns in characters to and from the agreed encoding's code units. ``source``
+    gives the current text of a file (``None`` when it cannot be read); lines are those
+    of that text."""
+
+    def __init__(self, encoding: str | None, source: Callable[[Path], SourceFile | None]):
+        self.units = impls.get(encoding, Utf16())
+        self.identity = self.units.num_units("\U0001F916") == 1
+        self._read = source
+        self._sources: dict[Path, SourceFile | None] = {}
+
+    def source(self, path: Path) -> SourceFile | None:
+        """The text of ``path``, read once for this conversion."""
+        if path not in self._sources:
+            self._sources[path] = self._read(path)
+        return self._sources[path]
+
+    # ---- out: the server's places to the client's ----
+    def position(self, path: Path, position: types.Position) -> types.Position:
+        """``position`` (a character column) in code units of the file's line."""
+        if self.identity or position.character == 0:
+            return position
+        line = self._line(path, position.line)
+        if line.isascii():
+            return position
+        return types.Position(position.line, self.units.num_units(line[:position.character]))
+
+    def range(self, path: Path, range_: types.Range) -> types.Range:
+        return types.Range(self.position(path, range_.start), self.position(path, range_.end))
+
+    def location(self, found: types.Location) -> types.Location:
+        return types.Location(found.uri, self.range(uri_to_path(found.uri), found.range))
+
+    def edit(self, path: Path, edit: types.TextEdit) -> types.TextEdit:
+        return types.TextEdit(self.range(path, edit.range), edit.new_text)
+
+    def workspace_edit(self, changes: types.WorkspaceEdit) -> types.WorkspaceEdit:
+        return types.WorkspaceEdit(changes={
+            uri: [self.edit(uri_to_path(uri), e) for e in edits]
+            for uri, edits in (changes.changes or {}).items()})
+
+    def column(self, path: Path, line: int, column: int) -> int:
+        """The 0-based character ``column`` of 0-based ``line`` in code units."""
+        return self.position(path, types.Position(line, column)).character
+
+    # ---- in: a request's position to the server's ----
+    def decode(self, path: Path, position: types.Position) -> tuple[int, int]:
+        """The 0-based line and character column of a request's position; a column past
+        the end of its line stands for the end of the line. Raises
+        :class:`~pygls.exceptions.JsonRpcInvalidParams` when the document is unknown or
+        the line is not in it."""
+        source = self.source(path)
+        if source is None:
+            raise JsonRpcInvalidParams(f"unknown document {path}: it is not open and "
+                                       "cannot be read")
+        if position.line >= source.line_count:
+            raise JsonRpcInvalidParams(
+                f"line {position.line} is past the end of {path.name} (lines 0 to "
+                f"{source.line_count - 1})")
+        line = source.line(position.line + 1)
+        if self.identity or line.isascii():
+            return position.line, min(position.character, len(line))
+        units = 0
+        for index, char in enumerate(line):
+            if units >= position.character:
+                return position.line, index
+            units += self.units.code_units_for_char(char)
+        return position.line, len(line)
+
+    def _line(self, path: Path, line: int) -> str:
+        source = self.source(path)
+        return source.line(line + 1) if source is not None else ""

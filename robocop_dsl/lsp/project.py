@@ -1,22 +1,53 @@
 """What the server knows: the open documents' texts, the mission files of the
-workspace, their parses and imports, and the worlds they name."""
+workspace, their parses and imports, and the worlds they name. Request threads and
+the checking thread share it: a file's parse is made once, under its lock."""
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import os
+import threading
+from collections import defaultdict
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 
-from ..compile import CheckResult, check_source
-from ..lang import ParseResult, ast, parse_mission
-from ..sources import MISSION, UnreadableSource, read_source
+from ..diagnostics import SourceFile
+from ..lang import ParseResult, ast
+from ..sources import MISSION, UnreadableSource, kind_of, read_source
 from ..world import World, resolve_world_path
 from ..world.paths import resolve
 from . import names
+from .pieces import PieceCache
 from .worlds import WorldStore
 
 MAX_WORKSPACE_FILES = 2000
+
+
+class _Collector:
+    """Cyclic garbage collection paused while any thread parses or checks: on a large
+    mission each collection walks millions of nodes and finds little to free."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._busy = 0
+
+    @contextlib.contextmanager
+    def paused(self):
+        with self._lock:
+            self._busy += 1
+            gc.disable()
+        try:
+            yield
+        finally:
+            with self._lock:
+                self._busy -= 1
+                if not self._busy:
+                    gc.enable()
+
+
+COLLECTOR = _Collector()
 
 
 @dataclass(frozen=True)
@@ -54,6 +85,9 @@ class Project:
         self.open: dict[Path, str] = {}
         self.roots: list[Path] = []
         self._parsed: dict[Path, Parsed] = {}
+        self._pieces: dict[Path, PieceCache] = defaultdict(PieceCache)
+        self._locks: dict[Path, threading.Lock] = defaultdict(threading.Lock)
+        self._sources: dict[Path, SourceFile] = {}
 
     def text(self, path: Path) -> str | None:
         if path in self.open:
@@ -66,32 +100,59 @@ class Project:
     def parsed(self, path: Path) -> Parsed | None:
         """The parse of ``path``'s current text (kept while the text is unchanged)."""
         text = self.text(path)
+        return None if text is None else self.parse(path, text)
+
+    def parse(self, path: Path, text: str) -> Parsed:
+        """The parse of ``text`` as the content of ``path``: only the pieces that
+        changed since the last parse of ``path`` are parsed again."""
+        with self._locks[path]:
+            known = self._parsed.get(path)
+            if known is None or known.text != text:
+                with COLLECTOR.paused():
+                    known = Parsed(path, text, self._pieces[path].parse(text, str(path)))
+                self._parsed[path] = known
+            return known
+
+    def forget(self, path: Path) -> None:
+        """Drop what is kept of a document that was closed."""
+        with self._locks[path]:
+            self._parsed.pop(path, None)
+            self._pieces.pop(path, None)
+            self._sources.pop(path, None)
+
+    def source(self, path: Path) -> SourceFile | None:
+        """The current text of a mission, world or URDF file, its lines counted as its
+        parser counts them."""
+        if kind_of(path) != MISSION:
+            try:
+                return read_source(path)
+            except UnreadableSource:
+                return None
+        text = self.text(path)
         if text is None:
             return None
-        known = self._parsed.get(path)
-        if known is None or known.text != text:
-            known = Parsed(path, text, parse_mission(text, str(path)))
-            self._parsed[path] = known
+        known = self._sources.get(path)
+        if known is None or known.text is not text:
+            known = SourceFile(str(path), text)
+            self._sources[path] = known
         return known
 
     def closure(self, path: Path) -> list[Parsed]:
         """``path`` and every file it imports, directly or not, each once."""
+        return self.closure_of(self.parsed(path))
+
+    def closure_of(self, parsed: Parsed | None) -> list[Parsed]:
+        """``parsed`` and every file it imports, directly or not, each once."""
         seen: dict[Path, Parsed] = {}
-        waiting = [path]
+        waiting = [parsed] if parsed is not None else []
         while waiting:
             current = waiting.pop(0)
-            if current in seen:
+            if current.path in seen:
                 continue
-            parsed = self.parsed(current)
-            if parsed is None:
-                continue
-            seen[current] = parsed
-            waiting += [imported for _, imported in parsed.imports()]
+            seen[current.path] = current
+            waiting += [p for p in (self.parsed(imported) for _, imported in current.imports())
+                        if p is not None]
         return list(seen.values())
-
-    def check(self, path: Path) -> CheckResult:
-        """Check the current text of ``path`` as ``robocop-mission check`` does."""
-        return check_source(self.text(path) or "", str(path), cache=self.worlds)
 
     def world_path(self, path: Path) -> Path | None:
         """The world file a mission names (resolved), if it names one that exists."""
@@ -103,21 +164,25 @@ class Project:
 
     def world(self, path: Path) -> World | None:
         """The world of the mission at ``path``: its own or, for an imported file
-        without one, that of an open mission importing it."""
+        without one, that of a mission importing it."""
         for owner in [path, *self.importers(path)]:
             world_path = self.world_path(owner)
             if world_path is not None:
                 return self.worlds.world(world_path)
         return None
 
-    def importers(self, path: Path) -> list[Path]:
-        """The known mission files whose imports reach ``path``."""
-        return [other for other in self.files()
+    def importers(self, path: Path, files: list[Path] | None = None) -> list[Path]:
+        """The mission files (of ``files``, by default all known) whose imports reach
+        ``path``."""
+        return [other for other in (self.files() if files is None else files)
                 if other != path and any(p.path == path for p in self.closure(other))]
 
     def files(self) -> list[Path]:
-        """The open documents and the ``.mission`` files under the workspace folders."""
+        """The open documents, the files they import and the ``.mission`` files under
+        the workspace folders."""
         found = dict.fromkeys(self.open)
+        for path in list(self.open):
+            found.update(dict.fromkeys(p.path for p in self.closure(path)))
         for root in self.roots:
             for folder, subfolders, files in os.walk(root):
                 subfolders[:] = [s for s in subfolders

@@ -13,7 +13,7 @@ from ..parameters import vector_parameter
 from ..state import ControlState
 from .base import Task, TaskSample
 
-AXIS_NAMES = "xyz"
+AXIS_NAMES = ("x", "y", "z")
 
 
 class Admittance(FeedbackLoop):

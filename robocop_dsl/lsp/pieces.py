@@ -1,0 +1,129 @@
+"""Parsing a mission piece by piece, so that an edit reparses the piece it is in only.
+
+The text is cut before a top-level statement that begins a line outside every block
+(braces counted outside strings and comments) and does not continue the line before
+(one that ends with ``,``, ``(``, ``[``, ``and``, ``or`` or ``not``), into pieces of at
+least :data:`PIECE_LINES` lines. Each piece is parsed on its own and kept by its text;
+the mission is the pieces' items in order, with the spans they have in the whole text:
+the tree :func:`~robocop_dsl.lang.parse_mission` gives for the whole text. A piece with
+syntax errors is parsed where it stands in the file, so that the lines its diagnostics
+name are the file's.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import re
+
+from ..diagnostics import SourceFile, Span
+from ..lang import ParseResult, ast, parse_mission
+from ..lang.parser import mission_grammar
+
+PIECE_LINES = 200
+_STATEMENT = re.compile(r"\s*(mission|library|import|let|var|world|controller|task|constraint"
+                        r"|event|behavior|start|state|final|when)\b")
+_CONTINUED = re.compile(r"(?:[,(\[]|\band|\bor|\bnot)\s*$")
+
+
+@functools.cache
+def _strings_and_comments() -> re.Pattern:
+    grammar = mission_grammar()
+    string = grammar.get_terminal("STRING").pattern.to_regexp()
+    comment = grammar.get_terminal("COMMENT").pattern.to_regexp()
+    return re.compile(f"{string}|{comment}")
+
+
+def pieces(text: str) -> list[tuple[int, str]]:
+    """The pieces of ``text``: each one's first line (1-based) and text; joined, they
+    are ``text``."""
+    lines = text.split("\n")
+    hidden = _strings_and_comments()
+    found, start, depth, continued = [], 0, 0, False
+    for number, line in enumerate(lines):
+        if (depth == 0 and not continued and number - start >= PIECE_LINES
+                and _STATEMENT.match(line)):
+            found.append((start + 1, "\n".join(lines[start:number]) + "\n"))
+            start = number
+        code = hidden.sub("", line) if '"' in line or "#" in line else line
+        depth = max(depth + code.count("{") - code.count("}"), 0)
+        continued = bool(_CONTINUED.search(code))
+    found.append((start + 1, "\n".join(lines[start:])))
+    return found
+
+
+def _shift(span: Span, lines: int) -> Span:
+    if span.line <= 0:
+        return span
+    return Span(span.line + lines, span.column, span.end_line + lines, span.end_column,
+                span.file)
+
+
+def _shift_in_place(tree: ast.Mission, lines: int) -> None:
+    """Move every span of a tree that nothing else holds yet down by ``lines``."""
+    seen: set[int] = set()
+    waiting: list = [tree]
+    while waiting:
+        node = waiting.pop()
+        if isinstance(node, tuple):
+            waiting += node
+        elif isinstance(node, ast.Node) and id(node) not in seen:
+            seen.add(id(node))
+            object.__setattr__(node, "span", _shift(node.span, lines))
+            waiting += [v for v in node.__dict__.values() if isinstance(v, (ast.Node, tuple))]
+
+
+def _moved(node, lines: int):
+    """A copy of ``node`` with every span moved down by ``lines``."""
+    if isinstance(node, tuple):
+        return tuple(_moved(item, lines) for item in node)
+    if not isinstance(node, ast.Node):
+        return node
+    copy = object.__new__(type(node))
+    copy.__dict__.update({key: _moved(value, lines) for key, value in node.__dict__.items()})
+    copy.__dict__["span"] = _shift(node.span, lines)
+    return copy
+
+
+def _parse_piece(first: int, text: str, path: str) -> ParseResult:
+    """``text`` parsed as the piece of the file that starts on line ``first``."""
+    result = parse_mission(text, path)
+    if first == 1:
+        return result
+    if result.diagnostics:
+        return parse_mission("\n" * (first - 1) + text, path)
+    _shift_in_place(result.mission, first - 1)
+    return result
+
+
+class PieceCache:
+    """The parsed pieces of one file's last parse, by text; :meth:`parse` reuses them."""
+
+    def __init__(self):
+        self._known: dict[str, tuple[int, ParseResult]] = {}
+
+    def parse(self, text: str, path: str) -> ParseResult:
+        """The parse of ``text``: its pieces parsed anew where their text changed, moved
+        where only their place did."""
+        known, kept = self._known, {}
+        items: list = []
+        found: list = []
+        for first, piece in pieces(text):
+            result = self._piece(known.get(piece), first, piece, path)
+            kept[piece] = (first, result)
+            items += result.mission.items
+            found += result.diagnostics
+        self._known = kept
+        last = text.count("\n") + 1
+        mission = ast.Mission(tuple(items), span=Span(1, 1, last, 1))
+        return ParseResult(mission, tuple(found), SourceFile(path, text))
+
+    @staticmethod
+    def _piece(known: tuple[int, ParseResult] | None, first: int, piece: str,
+               path: str) -> ParseResult:
+        if known is None or (known[0] != first and known[1].diagnostics):
+            return _parse_piece(first, piece, path)
+        at, result = known
+        if at == first:
+            return result
+        return dataclasses.replace(result, mission=_moved(result.mission, first - at))
