@@ -374,10 +374,10 @@ def test_errors_inside_nested_states_are_all_reported():
             "    final there\n}\nfinal put_down\n")
     assert _headlines(text) == [
         "t.mission:4:32: error[missing-token]: missing '->' before name 'over'",
-        "t.mission:8:9: error[missing-token]: missing '}' before 'when'"]
+        "t.mission:7:15: error[missing-token]: missing '}' for this '{'"]
     hints = [d.hint for d in parse_mission(text).diagnostics]
     assert hints == ["a transition is written 'when CONDITION -> STATE'",
-                     "the block opened at line 7 is not closed"]
+                     "close it before line 8"]
     mission = parse_mission(text).mission
     assert [s.name.text for s in mission.states] == ["carry", "put_down"]
 

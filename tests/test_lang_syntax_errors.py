@@ -1,5 +1,7 @@
 """Syntax errors: labelled with the typical mistake, all of them reported."""
 
+from pathlib import Path
+
 import pytest
 
 from robocop_dsl.lang import parse_mission
@@ -23,12 +25,12 @@ def test_missing_arrow_rendered_exactly():
 
 
 def test_missing_closing_brace_rendered_exactly():
-    """An unclosed block is found at the next statement that cannot be inside it."""
+    """An unclosed block is reported at its '{', the hint saying where it ends."""
     assert _rendered("state a {\n    enter { enable t\n    when t.reached -> b\n}\n") == (
-        "t.mission:3:5: error[missing-token]: missing '}' before 'when'\n"
-        " 3 |     when t.reached -> b\n"
-        "   |     ^^^^\n"
-        "   = hint: the block opened at line 2 is not closed")
+        "t.mission:2:11: error[missing-token]: missing '}' for this '{'\n"
+        " 2 |     enter { enable t\n"
+        "   |           ^\n"
+        "   = hint: close it before line 3")
 
 
 def test_colon_for_equals_rendered_exactly():
@@ -47,9 +49,60 @@ def test_equals_for_colon():
 
 
 def test_unclosed_block_at_end_of_file():
-    """The end of the file closes open blocks once, with one diagnostic."""
-    assert _headlines("state a {\n  enter {\n    enable t\n") == [
-        "t.mission:3:13: error[missing-token]: missing '}' at the end of the file"]
+    """The end of the file closes the open blocks, each reported at its '{'."""
+    diagnostics = parse_mission("state a {\n  enter {\n    enable t\n", "t.mission").diagnostics
+    assert [d.headline() for d in diagnostics] == [
+        "t.mission:1:9: error[missing-token]: missing '}' for this '{'",
+        "t.mission:2:9: error[missing-token]: missing '}' for this '{'"]
+    assert {d.hint for d in diagnostics} == {"close it at the end of the file"}
+
+
+PICKUP = (Path(__file__).resolve().parent.parent / "missions" / "pickup.mission").read_text()
+
+
+def _typed(before: str, *lines: str) -> str:
+    """pickup.mission with ``lines`` typed before its line that starts with ``before``."""
+    rows = PICKUP.split("\n")
+    at = next(i for i, row in enumerate(rows) if row.startswith(before))
+    return "\n".join(rows[:at] + list(lines) + rows[at:])
+
+
+@pytest.mark.parametrize("lines, braces", [
+    (["state typing {", "    enter { enable arms", ""], ["66:14", "67:11"]),
+    (["state typing {", ""], ["66:14"]),
+    (["state typing: reach(pickup_point, 1 mm, 10 s) {", ""], ["66:47"]),
+    (["task typing: body_pose(b) {", "    gain = 1", ""], ["66:27"]),
+    (["when elapsed > 1 s -> done {", "    emit go", ""], ["66:28"]),
+])
+def test_an_unclosed_block_while_typing_is_reported_at_its_brace(lines, braces):
+    """A block being typed and not closed yet: its '{' is reported, nothing else, and
+    the states after it stay at the top of the mission."""
+    result = parse_mission(_typed("state grasp", *lines), "t.mission")
+    assert [f"{d.span.line}:{d.span.column}" for d in result.diagnostics] == braces
+    assert {d.message for d in result.diagnostics} == {"missing '}' for this '{'"}
+    states = [s.name.text for s in result.mission.states]
+    assert {"grasp", "lift", "release", "done", "failed"} <= set(states)
+
+
+def test_an_unclosed_block_before_declarations_does_not_cascade():
+    """Blocks left open above top-level declarations: the two braces are reported,
+    first, and the declarations after them still parse."""
+    text = _typed("let home_posture", "state typing {", "  enter {", "")
+    result = parse_mission(text, "t.mission")
+    assert [d.headline() for d in result.diagnostics] == [
+        "t.mission:6:14: error[missing-token]: missing '}' for this '{'",
+        "t.mission:7:9: error[missing-token]: missing '}' for this '{'"]
+    assert result.diagnostics[0].hint == "close it before line 9"
+    assert [t.name.text for t in result.mission.tasks] == ["arms", "left_tool", "watch"]
+
+
+def test_a_block_closed_by_a_brace_less_indented_than_its_own():
+    """The '}' of the outer block ends the inner one too: the inner '{' is the one
+    reported."""
+    result = parse_mission("state a {\n    enter { enable t\n}\nfinal b\n", "t.mission")
+    assert [d.headline() for d in result.diagnostics] == [
+        "t.mission:2:11: error[missing-token]: missing '}' for this '{'"]
+    assert [s.name.text for s in result.mission.states] == ["a", "b"]
 
 
 def test_several_errors_all_reported():
@@ -78,8 +131,8 @@ def test_generic_error_lists_what_was_expected():
     """An unexpected token is shown with the expected ones."""
     diagnostic = parse_mission("state a {\n  when x.reached and -> b\n}\n").diagnostics[0]
     assert diagnostic.message == "unexpected '->'"
-    assert diagnostic.hint == ("expected '(', 'clearance', 'distance', 'elapsed', 'event', "
-                               "'not', 'time', a name")
+    assert diagnostic.hint == ("expected '(', 'clearance', 'contact', 'distance', 'elapsed', "
+                               "'event', 'force', 'not', ...")
 
 
 def test_unterminated_string():

@@ -23,6 +23,12 @@ PHYSICS_KEYS = ("friction", "mass")
 BODY_KEYS = ("move", "uniform", "normal")
 POSTURE_KEYS = ("joints", "uniform", "normal")
 HIERARCHIES = ("strict", "weighted")
+MAX_SAMPLES = 100_000
+"""Samples a campaign draws at most per mission, variant and setting."""
+MAX_JOBS = 1_000_000
+"""Jobs a campaign expands into at most (missions x variants x settings x samples)."""
+MAX_DURATION = 86_400.0
+"""The longest ``duration`` or ``time_budget`` [s]: a day."""
 
 
 def read_campaign(path: str | Path) -> CampaignSpec:
@@ -84,7 +90,7 @@ class _Reader:
         return CampaignSpec(
             name=name, path=path, description=self.string(data, "description", ""),
             missions=tuple(self.missions(data)), variants=tuple(self.variants(data)),
-            settings=settings, samples=self.integer(data, "samples", 1, minimum=1),
+            settings=settings, samples=self.samples(data, settings),
             seed=self.integer(data, "seed", 0, minimum=0),
             duration=self.duration(data, "duration"),
             time_budget=self.duration(data, "time_budget"),
@@ -101,6 +107,28 @@ class _Reader:
             return default
         return value
 
+    def samples(self, data: YamlMap, settings: dict) -> int:
+        """``samples``, at most :data:`MAX_SAMPLES`, and the jobs they make at most
+        :data:`MAX_JOBS`."""
+        samples = self.integer(data, "samples", 1, minimum=1)
+        if samples > MAX_SAMPLES:
+            self.error("wrong-value", f"'samples' is {samples:,}: at most {MAX_SAMPLES:,}",
+                       data.value_span("samples"), "split the campaign, or draw fewer "
+                       "samples: the success rate's interval narrows as 1/sqrt(samples)")
+            return 1
+        missions = max(len(data.get("missions") or ()), 1)
+        variants = max(len(data.get("variants") or ()), 1)
+        combinations = 1
+        for values in settings.values():
+            combinations *= max(len(values), 1)
+        jobs = missions * variants * combinations * samples
+        if jobs > MAX_JOBS:
+            self.error("wrong-value", f"the campaign makes {jobs:,} jobs: at most "
+                       f"{MAX_JOBS:,}", data.value_span("samples"),
+                       "fewer samples, settings, variants or missions per campaign")
+            return 1
+        return samples
+
     def integer(self, mapping: YamlMap, key: str, default: int, minimum: int) -> int:
         value = mapping.get(key, default)
         if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
@@ -116,6 +144,11 @@ class _Reader:
         if isinstance(value, bool) or not isinstance(value, (int, float)) or value <= 0:
             self.error("wrong-value", f"'{key}' must be a positive duration",
                        mapping.value_span(key), "write seconds, e.g. '30 s', '500 ms' or 12.5")
+            return None
+        if not value <= MAX_DURATION:
+            self.error("wrong-value", f"'{key}' must be at most a day ({MAX_DURATION:g} s), "
+                       f"not {value:g} s", mapping.value_span(key),
+                       "a run is bounded: write its mission time, e.g. '120 s'")
             return None
         return float(value)
 

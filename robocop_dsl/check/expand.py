@@ -21,6 +21,10 @@ from .constants import declared_constants
 from .context import CheckContext
 
 
+MAX_INSTANCE_DEPTH = 24
+"""How deep behaviour instances may nest (each inside the previous one's machine)."""
+
+
 def declared_behaviors(ctx: CheckContext, mission: ast.Mission) -> dict[str, ast.BehaviorDecl]:
     """The behaviours by name, the first of each; one with no state is reported."""
     behaviors: dict[str, ast.BehaviorDecl] = {}
@@ -129,6 +133,12 @@ class Expander:
                              "or import the file that does")
             return None
         if name in self.recursive or name in stack:
+            return None
+        if len(stack) >= MAX_INSTANCE_DEPTH:
+            self.ctx.error("nesting-too-deep", f"behaviour instances nest more than "
+                           f"{MAX_INSTANCE_DEPTH} deep here", instance.span,
+                           "flatten the chain: instantiate behaviours side by side in one "
+                           "machine rather than each inside the next")
             return None
         bindings = bind_arguments(self.ctx, instance, behavior, self.lets)
         if bindings is None:

@@ -7,6 +7,7 @@ ones inside brackets so long vectors and calls may span lines.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import hashlib
 import os
@@ -23,7 +24,8 @@ from ..diagnostics import Diagnostic, SourceFile, Span
 from ..resources import GRAMMAR_DIR
 from ..sources import MISSION, read_source
 from . import ast
-from .syntax_errors import RESERVED, Recovery
+from .syntax_errors import (RESERVED, UNCLOSED, Recovery, closed_by_layout,
+                            layout_closings)
 from .transformer import MissionBuilder
 
 # Syntax-tree depth beyond which a mission is refused: the checker and the compiler
@@ -119,8 +121,19 @@ class ParseResult:
 
 
 def parse_mission(text: str, path: str | Path = "<mission>") -> ParseResult:
-    """Parse mission ``text``; never raises on bad input, diagnostics say what is wrong."""
+    """Parse mission ``text``; never raises on bad input, diagnostics say what is wrong
+    (in the order of their places)."""
     source = SourceFile(str(path), text)
+    mission, diagnostics, unclosed = _parse(text, source)
+    if unclosed:
+        mission, diagnostics = _closed_by_layout(text, source, mission, diagnostics, unclosed)
+    ordered = sorted(diagnostics, key=lambda d: (d.span.line, d.span.column) if d.span
+                     else (0, 0))
+    return ParseResult(mission, tuple(ordered), source)
+
+
+def _parse(text: str, source: SourceFile) -> tuple[ast.Mission, list[Diagnostic], int]:
+    """The tree of what parsed, the syntax errors and how many blocks recovery closed."""
     recovery = Recovery(source, mission_grammar())
     mission = ast.Mission(span=Span.point(1))
     try:
@@ -135,7 +148,26 @@ def parse_mission(text: str, path: str | Path = "<mission>") -> ParseResult:
                 "(a 'let', a behaviour, a state)"))
     except (LarkError, VisitError) as error:
         recovery.give_up(error)
-    return ParseResult(mission, tuple(recovery.diagnostics), source)
+    return mission, recovery.diagnostics, len(recovery.unclosed)
+
+
+def _closed_by_layout(text: str, source: SourceFile, mission: ast.Mission,
+                      diagnostics: list[Diagnostic], unclosed: int):
+    """The parse of ``text`` with each block that its indentation shows to be over
+    closed where it ends (the statements after it stay out of it), when that parse
+    leaves no block open and has no more errors than the first, else the first."""
+    closings = layout_closings(text)
+    if not closings:
+        return mission, diagnostics
+    patched = closed_by_layout(text, closings)
+    second, found, still_open = _parse(patched, SourceFile(source.path, patched))
+    if still_open or len(found) > len(diagnostics) - unclosed:
+        return mission, diagnostics
+    quoted = [dataclasses.replace(d, source_line=source.line(d.span.line)) if d.span else d
+              for d in found]
+    return second, quoted + [source.error("missing-token", UNCLOSED,
+                                          Span.point(c.line, c.column), c.hint)
+                             for c in closings]
 
 
 def parse_file(path: str | Path) -> ParseResult:

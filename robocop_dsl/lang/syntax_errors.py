@@ -5,9 +5,18 @@ token it first tries the typical mistakes (a missing ``->``, ``}``, ``)``, ``]``
 or ``:``; ``:`` written for ``=`` and back) by feeding the interactive parser the token
 that was meant; otherwise it reports the token with the expected ones, skips the rest
 of the statement and pops the parser back to where the statement began.
+
+A block left open is reported at its ``{``. Where it should have ended, the parser
+cannot tell (a state's block may hold states); the indentation can:
+:func:`layout_closings` finds the blocks that a later line, indented no deeper than the
+line of their ``{``, shows to be over, and where to close each.
 """
 
 from __future__ import annotations
+
+import functools
+import re
+from dataclasses import dataclass
 
 from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
@@ -38,6 +47,9 @@ _NAMED = {"NAME": "a name", "NUMBER": "a number", "STRING": "a string", "UNIT": 
           "_NL": "a new line", "$END": "the end of the file", "COMPARE": "a comparison",
           "_ARROW": "'->'"}
 _GENERIC_HINT_LIMIT = 8
+CONTINUED = re.compile(r"(?:[,(\[]|\band|\bor|\bnot)\s*$")
+"""The end of a line whose statement goes on on the next line."""
+UNCLOSED = "missing '}' for this '{'"
 
 
 def _interchangeable(kind: str) -> tuple[str, ...]:
@@ -51,6 +63,8 @@ class Recovery:
     def __init__(self, source: SourceFile, parser: Lark):
         self.source = source
         self.diagnostics: list[Diagnostic] = []
+        self.unclosed: list[Token] = []
+        """The ``{`` tokens that recovery closed."""
         self._skip_line: int | None = None
         self._literals = {t.name: t.pattern.value for t in parser.terminals
                           if t.pattern.type == "str"}
@@ -103,10 +117,13 @@ class Recovery:
                         None)
             if kind is None:
                 continue
-            opened = _open_brace_line(parser) if inserted[0] == "RBRACE" else None
+            opened = _open_brace(parser) if inserted[0] == "RBRACE" else None
             _feed_all(parser, inserted, token)
             parser.feed_token(Token.new_borrow_pos(kind, token.value, token))
-            self._missing(inserted[0], token, opened)
+            if opened is not None:
+                self.close(opened, f"close it before line {token.line}")
+            else:
+                self._missing(inserted[0], token)
             return True
         if token.value in RESERVED and _accepts(parser, "NAME", token):
             parser.feed_token(Token.new_borrow_pos("NAME", token.value, token))
@@ -115,7 +132,12 @@ class Recovery:
             return True
         return False
 
-    def _missing(self, kind: str, token: Token, opened: int | None) -> None:
+    def close(self, brace: Token, hint: str) -> None:
+        """Report a ``{`` that is never closed, at that ``{``."""
+        self.unclosed.append(brace)
+        self._add("missing-token", UNCLOSED, _span(brace), hint)
+
+    def _missing(self, kind: str, token: Token) -> None:
         if kind == "_NL":
             self._add("missing-token", f"expected a new line before {self._describe(token)}",
                       _span(token), "write one statement per line")
@@ -125,10 +147,7 @@ class Recovery:
         hints = {"_ARROW": "a transition is written 'when CONDITION -> STATE'",
                  "EQUAL": "a parameter or field is set with 'NAME = VALUE'",
                  "COLON": "a declaration names its type after ':' (task NAME: TYPE(...))"}
-        hint = hints.get(kind)
-        if opened is not None:
-            hint = f"the block opened at line {opened} is not closed"
-        self._add("missing-token", message, _span(token), hint)
+        self._add("missing-token", message, _span(token), hints.get(kind))
 
     # ---- generic errors ----
     def _unexpected(self, parser, token: Token) -> None:
@@ -156,19 +175,15 @@ class Recovery:
         self._skip_line = error.line
 
     def _finish(self, parser, token: Token) -> None:
-        """At the end of the file: close open blocks (reporting it once) and stop."""
+        """At the end of the file: close open blocks (reporting each) and stop."""
         reported = False
         for _ in range(10_000):
             if _accepts(parser, "$END", token):
                 return
             if _accepts(parser, "RBRACE", token):
-                if not reported:
-                    opened = _open_brace_line(parser)
-                    self._add("missing-token", "missing '}' at the end of the file",
-                              _end_span(self.source),
-                              f"the block opened at line {opened} is not closed"
-                              if opened else None)
-                    reported = True
+                opened = _open_brace(parser)
+                if opened is not None:
+                    self.close(opened, "close it at the end of the file")
                 parser.feed_token(Token.new_borrow_pos("RBRACE", "}", token))
             elif _accepts(parser, "_NL", token):
                 parser.feed_token(Token.new_borrow_pos("_NL", "", token))
@@ -282,9 +297,88 @@ def _pop(parser, depth: int) -> None:
         state.value_stack.pop()
 
 
-def _open_brace_line(parser) -> int | None:
-    """The line of the innermost '{' still open on the parser's stack."""
+def _open_brace(parser) -> Token | None:
+    """The innermost '{' still open on the parser's stack."""
     for value in reversed(parser.parser_state.value_stack):
         if isinstance(value, Token) and value.type == "LBRACE":
-            return value.line
+            return value
     return None
+
+
+@functools.cache
+def _strings_and_comments() -> re.Pattern:
+    from .parser import mission_grammar
+
+    grammar = mission_grammar()
+    string = grammar.get_terminal("STRING").pattern.to_regexp()
+    comment = grammar.get_terminal("COMMENT").pattern.to_regexp()
+    return re.compile(f"(?P<string>{string})|{comment}")
+
+
+def _hide(match: re.Match) -> str:
+    return ('"' if match.group("string") else " ") * len(match.group())
+
+
+def code_of(line: str) -> str:
+    """``line`` with the characters of its strings replaced by ``"`` and its comment by
+    spaces: braces in them are text, and columns stay where they are."""
+    return _strings_and_comments().sub(_hide, line) if '"' in line or "#" in line else line
+
+
+@dataclass(frozen=True)
+class Closing:
+    """A block the layout shows to be over: its ``{`` (1-based line and column), where
+    its ``}`` goes (after the code of line ``at``) and the line it goes before (``None``:
+    the end of the file)."""
+
+    line: int
+    column: int
+    at: int
+    before: int | None
+
+    @property
+    def hint(self) -> str:
+        if self.before is None:
+            return "close it at the end of the file"
+        return f"close it before line {self.before}"
+
+
+def layout_closings(text: str) -> list[Closing]:
+    """The blocks whose ``{`` a later line shows to be over by its indentation, with
+    no ``}`` before it: a line indented no deeper than the line that opened the block
+    (a ``}`` less deep than it), or the end of the file. A line that continues the
+    statement before it (after ``,``, ``(``, ``[``, ``and``, ``or``, ``not``) does not
+    count."""
+    opened: list[tuple[int, int, int]] = []          # line, column, indentation
+    found: list[Closing] = []
+    last, continued = 0, False
+    for number, line in enumerate(text.split("\n"), 1):
+        code = code_of(line)
+        if not code.strip():
+            continue
+        indent = len(line) - len(line.lstrip())
+        if not continued:
+            closing = code.lstrip().startswith("}")
+            while opened and (indent < opened[-1][2] or (indent == opened[-1][2]
+                                                         and not closing)):
+                brace = opened.pop()
+                found.append(Closing(brace[0], brace[1], last, number))
+        for column, char in enumerate(code, 1):
+            if char == "{":
+                opened.append((number, column, indent))
+            elif char == "}" and opened:
+                opened.pop()
+        last, continued = number, bool(CONTINUED.search(code))
+    found += [Closing(line, column, last, None) for line, column, _ in reversed(opened)]
+    return found
+
+
+def closed_by_layout(text: str, closings: list[Closing]) -> str:
+    """``text`` with a ``}`` after the code of the line where each closing goes."""
+    lines = text.split("\n")
+    for at in sorted({c.at for c in closings}):
+        line = lines[at - 1]
+        end = len(code_of(line).rstrip())
+        count = sum(1 for c in closings if c.at == at)
+        lines[at - 1] = line[:end] + "}" * count + line[end:]
+    return "\n".join(lines)

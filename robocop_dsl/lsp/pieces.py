@@ -13,41 +13,30 @@ name are the file's.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import re
 
 from ..diagnostics import SourceFile, Span
 from ..lang import ParseResult, ast, parse_mission
-from ..lang.parser import mission_grammar
+from ..lang.syntax_errors import CONTINUED, code_of
 
 PIECE_LINES = 200
 _STATEMENT = re.compile(r"\s*(mission|library|import|let|var|world|controller|task|constraint"
                         r"|event|behavior|start|state|final|when)\b")
-_CONTINUED = re.compile(r"(?:[,(\[]|\band|\bor|\bnot)\s*$")
-
-
-@functools.cache
-def _strings_and_comments() -> re.Pattern:
-    grammar = mission_grammar()
-    string = grammar.get_terminal("STRING").pattern.to_regexp()
-    comment = grammar.get_terminal("COMMENT").pattern.to_regexp()
-    return re.compile(f"{string}|{comment}")
 
 
 def pieces(text: str) -> list[tuple[int, str]]:
     """The pieces of ``text``: each one's first line (1-based) and text; joined, they
     are ``text``."""
     lines = text.split("\n")
-    hidden = _strings_and_comments()
     found, start, depth, continued = [], 0, 0, False
     for number, line in enumerate(lines):
         if (depth == 0 and not continued and number - start >= PIECE_LINES
                 and _STATEMENT.match(line)):
             found.append((start + 1, "\n".join(lines[start:number]) + "\n"))
             start = number
-        code = hidden.sub("", line) if '"' in line or "#" in line else line
+        code = code_of(line)
         depth = max(depth + code.count("{") - code.count("}"), 0)
-        continued = bool(_CONTINUED.search(code))
+        continued = bool(CONTINUED.search(code))
     found.append((start + 1, "\n".join(lines[start:])))
     return found
 

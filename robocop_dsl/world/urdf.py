@@ -16,6 +16,7 @@ from ..sources import URDF, UnreadableSource, read_source
 from . import paths
 from .description import ROOT, prefixed
 from .placement import IDENTITY
+from .urdf_values import UrdfValues
 
 DOFS = {"fixed": 0, "revolute": 1, "continuous": 1, "prismatic": 1, "floating": 6,
         "planar": 3}
@@ -126,6 +127,13 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
                                         Span.point(line, column + 1)))
         return None
     lines = element_lines(source.text)
+    values = UrdfValues(source, diagnostics)
+    readable = [values.link(link, lines.get(("link", link.get("name")), 1))
+                for link in robot.findall("link")]
+    readable += [values.joint(joint, lines.get(("joint", joint.get("name")), 1))
+                 for joint in robot.findall("joint")]
+    if not all(readable):
+        return None
     model = UrdfModel(path, None)
     rename = {}
     for link in robot.findall("link"):

@@ -1,0 +1,110 @@
+"""The numbers and types of a URDF's joints and links, checked before anything reads
+them: a joint type URDF has, limits that are finite numbers in SI (no units, no NaN),
+velocity and effort limits not negative, a lower limit not above the upper one,
+origins, axes and inertias of numbers. Each problem is located at the attribute.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import xml.etree.ElementTree as ET
+
+from ..diagnostics import SourceFile, Span, did_you_mean
+
+JOINT_TYPES = ("fixed", "revolute", "continuous", "prismatic", "floating", "planar")
+_VECTORS = {"origin": ("xyz", "rpy"), "axis": ("xyz",)}
+_NUMBERS = {"limit": ("lower", "upper", "velocity", "effort"),
+            "mimic": ("multiplier", "offset"), "mass": ("value",),
+            "inertia": ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+_NOT_NEGATIVE = {("limit", "velocity"), ("limit", "effort"), ("mass", "value")}
+
+
+class UrdfValues:
+    """Checks the elements of one URDF, reporting into ``diagnostics``.
+
+    Args:
+        source: The URDF file.
+        diagnostics: Where problems go.
+    """
+
+    def __init__(self, source: SourceFile, diagnostics: list):
+        self.source = source
+        self.lines = source.text.splitlines()
+        self.diagnostics = diagnostics
+        self.count = 0
+
+    def joint(self, joint: ET.Element, line: int) -> bool:
+        """Whether the joint (its element at ``line``) can be read."""
+        before = len(self.diagnostics)
+        kind = joint.get("type", "")
+        if kind not in JOINT_TYPES:
+            self._error(line, f'type="{kind}"', f"joint '{joint.get('name')}' has no URDF "
+                        f"type '{kind}'", did_you_mean(kind, JOINT_TYPES)
+                        or "types: " + ", ".join(JOINT_TYPES))
+        self.element(joint, line, f"joint '{joint.get('name')}'")
+        limit = joint.find("limit")
+        if limit is not None and kind in ("revolute", "prismatic") \
+                and len(self.diagnostics) == before:
+            lower, upper = float(limit.get("lower", "0")), float(limit.get("upper", "0"))
+            if lower > upper:
+                self._error(line, "lower=", f"joint '{joint.get('name')}' has its lower limit "
+                            f"{lower:g} above its upper limit {upper:g}",
+                            "swap them, or fix the one that is wrong")
+        return len(self.diagnostics) == before
+
+    def link(self, link: ET.Element, line: int) -> bool:
+        """Whether the link's origins and inertial numbers can be read."""
+        before = len(self.diagnostics)
+        self.element(link, line, f"link '{link.get('name')}'")
+        return len(self.diagnostics) == before
+
+    def element(self, parent: ET.Element, line: int, what: str) -> None:
+        """Every number under ``parent``."""
+        for child in parent.iter():
+            for name in _VECTORS.get(child.tag, ()):
+                if name in child.attrib:
+                    self._vector(child, name, line, what)
+            for name in _NUMBERS.get(child.tag, ()):
+                if name in child.attrib:
+                    self._number(child, name, line, what)
+
+    def _number(self, element: ET.Element, name: str, line: int, what: str) -> None:
+        text = element.get(name)
+        value = _finite(text)
+        if value is None:
+            self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
+                        f"must be a finite number, not '{text}'",
+                        "URDF numbers are SI without a unit (m, rad, m/s, rad/s, N, kg)")
+        elif value < 0 and (element.tag, name) in _NOT_NEGATIVE:
+            self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
+                        f"is negative: {text}", "a velocity, effort or mass limit is >= 0")
+
+    def _vector(self, element: ET.Element, name: str, line: int, what: str) -> None:
+        text = element.get(name)
+        parts = text.split()
+        if len(parts) != 3 or any(_finite(p) is None for p in parts):
+            self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
+                        f"must be three finite numbers, not '{text}'",
+                        "for example xyz=\"0 0 0.1\" (m) or rpy=\"0 0 1.57\" (rad)")
+
+    def _error(self, line: int, needle: str, message: str, hint: str) -> None:
+        found_line, column = self._locate(line, needle)
+        self.diagnostics.append(self.source.error(
+            "urdf-error", message, Span.point(found_line, column, len(needle)), hint))
+
+    def _locate(self, line: int, needle: str) -> tuple[int, int]:
+        """The first place at or after ``line`` where ``needle`` is written."""
+        for number in range(max(line, 1), len(self.lines) + 1):
+            column = self.lines[number - 1].find(needle)
+            if column >= 0:
+                return number, column + 1
+        return line, 1
+
+
+def _finite(text: str | None) -> float | None:
+    """``text`` as a finite float, else ``None``."""
+    if text is None or not re.fullmatch(r"\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*", text):
+        return None
+    value = float(text)
+    return value if math.isfinite(value) else None

@@ -1,0 +1,79 @@
+"""Inputs that used to end in a Python traceback, through the command line: URDF
+numbers with units or NaN, a negative velocity limit, a joint type URDF does not have,
+a chain of 300 behaviours, a campaign of a million samples or of infinite duration.
+Each is now a located diagnostic."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import write
+
+REPO = Path(__file__).resolve().parent.parent
+ARM = """
+    <robot name="arm">
+      <link name="base"/>
+      <link name="l1"/>
+      <joint name="j1" type="{type}">
+        <parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+        <limit lower="-1" upper="{upper}" velocity="{velocity}" effort="1"/>
+      </joint>
+    </robot>
+"""
+
+
+def cli(*args, cwd=REPO):
+    return subprocess.run([sys.executable, "-m", "robocop_dsl", *map(str, args)],
+                          capture_output=True, text=True, cwd=cwd)
+
+
+@pytest.mark.parametrize("joint, message, column", [
+    ({"upper": "2.775mm"}, "'upper' of the <limit> of joint 'j1' must be a finite number, "
+                           "not '2.775mm'", 23),
+    ({"upper": "nan"}, "'upper' of the <limit> of joint 'j1' must be a finite number, "
+                       "not 'nan'", 23),
+    ({"velocity": "-2"}, "'velocity' of the <limit> of joint 'j1' is negative: -2", 33),
+    ({"type": "revolve"}, "joint 'j1' has no URDF type 'revolve'", 20),
+])
+def test_bad_urdf_numbers_and_types_are_located(tmp_path, joint, message, column):
+    values = {"type": "revolute", "upper": "1", "velocity": "1", **joint}
+    write(tmp_path, "arm.urdf", ARM.format(**values))
+    world = write(tmp_path, "w.yaml", "models:\n  - path: arm.urdf\n")
+    done = cli("world", world)
+    assert done.returncode == 1 and "Traceback" not in done.stderr
+    line = 6 if "type" not in joint else 4
+    assert done.stderr.splitlines()[0] == (
+        f"{tmp_path / 'arm.urdf'}:{line}:{column}: error[urdf-error]: {message}")
+
+
+def test_a_chain_of_300_behaviours(tmp_path):
+    lines = ['mission chain "Each behaviour runs the next."',
+             'world "panda/panda_on_table.yaml"']
+    for index in range(300):
+        inner = (f"state s: b{index + 1}()\n    when s.f -> f" if index < 299
+                 else "state s {\n        when elapsed > 1 s -> f\n    }")
+        lines.append(f"behavior b{index}() {{\n    {inner}\n    final f\n}}")
+    lines.append("state top: b0() {\n    when top.f -> done\n}\nfinal done\n")
+    mission = tmp_path / "chain.mission"
+    mission.write_text("\n".join(lines))
+    done = cli("check", mission)
+    assert done.returncode == 1 and "Traceback" not in done.stdout + done.stderr
+    assert "error[nesting-too-deep]: behaviour instances nest more than 24 deep here" \
+        in done.stdout
+
+
+def test_a_campaign_too_large_or_too_long(tmp_path):
+    campaign = write(tmp_path, "big.campaign.yaml", f"""
+        missions: [{REPO / 'missions' / 'panda_reach.mission'}]
+        samples: 1000000
+        duration: 1e309 s
+    """)
+    done = cli("sweep", campaign)
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    errors = [line for line in done.stderr.splitlines() if "error[" in line]
+    assert errors == [
+        f"{campaign}:2:10: error[wrong-value]: 'samples' is 1,000,000: at most 100,000",
+        f"{campaign}:3:11: error[wrong-value]: 'duration' must be at most a day (86400 s), "
+        "not inf s"]
