@@ -288,3 +288,19 @@ def test_check_needs_the_gain_and_the_bound(tmp_path):
     [(code, message, _)] = diagnostics(tmp_path, "axes = [z]")
     assert (code, message) == ("missing-parameter",
                                "task 'press' needs 'gain', 'max_velocity'")
+
+
+def test_a_force_task_without_a_target_aims_at_zero_force(tmp_path):
+    """Its kind's default, as the catalogue says: [0, 0, 0] N, not the force measured
+    when it starts."""
+    from robocop_dsl.compile import load_mission as compile_mission
+    from robocop_dsl.compile import spec
+
+    path = tmp_path / "yield.mission"
+    path.write_text('mission yielding "Yield to whatever pushes the hand."\n'
+                    'world "panda/panda_press.yaml"\n'
+                    "task give: body_force(panda_hand) {\n"
+                    "    gain = 0.001 (m/s)/N\n    max_velocity = 1 cm/s\n}\n"
+                    "state s {\n    enter { enable give }\n    when give.reached -> done\n}\n"
+                    "final done\n")
+    assert compile_mission(path).tasks["give"].target == spec.VectorTarget((0.0, 0.0, 0.0))

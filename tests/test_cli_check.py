@@ -90,7 +90,8 @@ def test_github_format(capsys):
     assert capsys.readouterr().out == (
         f"::error file={path},line=7,col=26,endLine=7,endColumn=28,title=unknown-unit::"
         "unknown unit 'kg' (hint: units: m, cm, mm, rad, deg, s, ms, m/s, cm/s, mm/s, "
-        "rad/s, deg/s, m/s^2, rad/s^2, deg/s^2, m/s^3, rad/s^3, deg/s^3)\n")
+        "rad/s, deg/s, m/s^2, rad/s^2, deg/s^2, m/s^3, rad/s^3, deg/s^3, N, kN, mN, Nm, "
+        "(m/s)/N, (cm/s)/N, (mm/s)/N)\n")
 
 
 def test_usage_errors_exit_two(capsys):

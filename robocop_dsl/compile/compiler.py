@@ -76,7 +76,8 @@ def _task(decl: ast.TaskDecl, names: WorldNames, controller: str) -> spec.TaskSp
         joint_group=subject if joints else None, body=None if joints else subject,
         reference=(given["reference"].name.text if "reference" in given else "world")
         if not joints else None,
-        target=target_spec(given.get("target"), kind, dofs),
+        target=(target_spec(given["target"], kind, dofs) if "target" in given
+                else _default_target(kind)),
         interpolator=spec.InterpolatorSpec(*_call(given.get("interpolator"), INTERPOLATORS,
                                                   "none", per_dof)),
         feedback=spec.FeedbackSpec(*_call(given.get("feedback"), FEEDBACKS, "proportional",
@@ -89,6 +90,14 @@ def _task(decl: ast.TaskDecl, names: WorldNames, controller: str) -> spec.TaskSp
         enabled=convert(enabled, SWITCH, dofs) if enabled is not None else False,
         options={p.name: convert(given[p.name], p.kind, dofs) if p.name in given
                  else p.default for p in kind.parameters if p.name in TASK_OPTIONS})
+
+
+def _default_target(kind: Kind) -> spec.TargetSpec:
+    """A task's target when its declaration gives none: its kind's default (a
+    ``body_force`` task's zero force), else ``current``."""
+    default = kind.parameter("target").default if kind.parameter("target") else None
+    return spec.VectorTarget(tuple(default)) if isinstance(default, tuple) \
+        else spec.CurrentTarget()
 
 
 def _constraint(decl: ast.ConstraintDecl, names: WorldNames,

@@ -1,7 +1,8 @@
-"""The checker's diagnostics as the protocol's: code, range, hint, and as related
-information the places they name (the first declaration of a duplicate, the behaviour
-instance that exposed a problem). A problem in another file (an imported one, the
-world) is shown on the statement that brings that file in."""
+"""The checker's diagnostics as the protocol's: code, range, hint, the places they name
+as related information (the first declaration of a duplicate, the behaviour instance
+that exposed a problem) and, in ``data``, the quick fixes their words call for. A
+problem in another file (an imported one, the world) is shown on the statement that
+brings that file in; its fixes edit that file."""
 
 from __future__ import annotations
 
@@ -12,8 +13,9 @@ from lsprotocol import types
 
 from ..diagnostics import Diagnostic, Span
 from ..lang import ast
-from .positions import location, to_range
-from .project import Project
+from .fixes import Fix, fixes
+from .positions import location, path_to_uri, to_range
+from .project import Parsed, Project
 
 SOURCE = "robocop-mission"
 _AT_FILE = re.compile(r"([\w./\\-]+\.(?:mission|yaml|urdf)):(\d+)(?::(\d+))?")
@@ -39,12 +41,9 @@ def _related(diagnostic: Diagnostic, file: Path) -> list:
     return related
 
 
-def _carrier(project: Project, path: Path, file: Path) -> Span | None:
-    """The statement of ``path`` that brings ``file`` in: the import whose files reach
+def _carrier(project: Project, parsed: Parsed, file: Path) -> Span | None:
+    """The statement of ``parsed`` that brings ``file`` in: the import whose files reach
     it, else the world declaration."""
-    parsed = project.parsed(path)
-    if parsed is None:
-        return None
     for statement, imported in parsed.imports():
         if any(p.path == file for p in project.closure(imported)):
             return statement.path.span
@@ -52,24 +51,32 @@ def _carrier(project: Project, path: Path, file: Path) -> Span | None:
     return world.path.span if world is not None else None
 
 
-def convert(project: Project, path: Path, diagnostic: Diagnostic) -> types.Diagnostic:
-    """One checker diagnostic of the mission at ``path`` as a protocol diagnostic."""
+def fix_data(found: list[Fix]) -> list[dict] | None:
+    """Fixes as a diagnostic's ``data``: ranges in characters, turned into the client's
+    encoding when a code action applies them."""
+    return [{"title": f.title, "uri": path_to_uri(f.path), "line": f.span.line,
+             "column": f.span.column, "end_line": f.span.end_line,
+             "end_column": f.span.end_column, "text": f.text, "preferred": f.preferred}
+            for f in found] or None
+
+
+def convert(project: Project, parsed: Parsed, diagnostic: Diagnostic) -> types.Diagnostic:
+    """One checker diagnostic of the mission ``parsed`` as a protocol diagnostic, its
+    range in characters."""
+    path = parsed.path
     file = Path(diagnostic.file).resolve() if diagnostic.file else path
     message = diagnostic.message + (f"\nhint: {diagnostic.hint}" if diagnostic.hint else "")
     related = _related(diagnostic, file)
     span = diagnostic.span
+    source = parsed.result.source if file == path else project.source(file)
+    found = fixes(diagnostic, file, source)
     if file != path:
         message = f"{diagnostic.location()}: {message}"
         related.insert(0, types.DiagnosticRelatedInformation(location(file, span),
                                                              diagnostic.message))
-        span = _carrier(project, path, file)
+        span = _carrier(project, parsed, file)
     severity = (types.DiagnosticSeverity.Error if diagnostic.is_error
                 else types.DiagnosticSeverity.Warning)
     return types.Diagnostic(range=to_range(span), message=message, severity=severity,
                             code=diagnostic.code, source=SOURCE,
-                            related_information=related or None)
-
-
-def diagnostics(project: Project, path: Path) -> list[types.Diagnostic]:
-    """Every diagnostic ``robocop-mission check`` gives for the current text of ``path``."""
-    return [convert(project, path, d) for d in project.check(path).diagnostics]
+                            related_information=related or None, data=fix_data(found))

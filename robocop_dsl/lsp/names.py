@@ -51,14 +51,14 @@ _STRING = re.compile(r'"([^"\\\n]|\\.)*"')
 _PLACEHOLDER = re.compile(r"\{\s*([A-Za-z_][A-Za-z0-9_]*)\s*\}")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Occurrence:
     """One name as written. ``declares`` when it is the declared name itself, ``node``
     then the declaration; ``machines`` are the machines around it, innermost first (for
     state and var names); ``behavior`` the behaviour it is written in; ``context`` what
     the role needs to know (a declaration's type for :data:`SETTING`, a call's kind for
     :data:`ARGUMENT`, the owner for :data:`FIELD`, the region a :data:`VAR` is declared
-    in)."""
+    in, the state a :data:`REGION` declared belongs to)."""
 
     role: str
     name: ast.Name
@@ -155,7 +155,7 @@ class _Walker:
             else:
                 self.transition(part)
         for region in state.regions:
-            self.add(REGION, region.name, True)
+            self.add(REGION, region.name, True, state.name.text, region)
             if region.instance is not None:
                 self.instance(region.instance)
             if region.machine is not None:
@@ -294,3 +294,45 @@ def occurrences(tree: ast.Mission, text: str = "") -> list[Occurrence]:
 def at(found: list[Occurrence], line: int, column: int) -> Occurrence | None:
     """The name at a 1-based position, if any."""
     return next((o for o in found if o.contains(line, column)), None)
+
+
+class Scopes:
+    """Where states and vars are declared, to look a name up at once: by machine (the
+    machines of the occurrences, by identity), the states declared anywhere in each
+    behaviour or in the mission, and the vars of the top of the file."""
+
+    def __init__(self, found: list[Occurrence]):
+        self.states: dict[int, dict[str, Occurrence]] = {}
+        self.variables: dict[int, dict[str, Occurrence]] = {}
+        self.anywhere: dict[tuple[int, str], Occurrence] = {}
+        self.top: dict[str, Occurrence] = {}
+        for occurrence in found:
+            if not occurrence.declares:
+                continue
+            machine = id(occurrence.machines[0]) if occurrence.machines else 0
+            if occurrence.role in (STATE, FINAL):
+                self.states.setdefault(machine, {}).setdefault(occurrence.text, occurrence)
+                self.anywhere.setdefault((id(occurrence.behavior), occurrence.text),
+                                         occurrence)
+            elif occurrence.role == VAR:
+                self.variables.setdefault(machine, {}).setdefault(occurrence.text, occurrence)
+                if occurrence.behavior is None and len(occurrence.machines) == 1:
+                    self.top.setdefault(occurrence.text, occurrence)
+
+    def state(self, occurrence: Occurrence, name: str) -> Occurrence | None:
+        """The state ``name`` seen from ``occurrence``: in the innermost machine around
+        it that has one, else anywhere in the same behaviour or mission."""
+        for machine in occurrence.machines:
+            found = self.states.get(id(machine), {}).get(name)
+            if found is not None:
+                return found
+        return self.anywhere.get((id(occurrence.behavior), name))
+
+    def variable(self, occurrence: Occurrence, name: str) -> Occurrence | None:
+        """The var ``name`` seen from ``occurrence``: declared in a machine around it,
+        innermost first, else at the top of the file (every behaviour sees those)."""
+        for machine in occurrence.machines:
+            found = self.variables.get(id(machine), {}).get(name)
+            if found is not None:
+                return found
+        return self.top.get(name)

@@ -66,6 +66,10 @@ class Parsed:
     def occurrences(self) -> list[names.Occurrence]:
         return names.occurrences(self.tree, self.text)
 
+    @cached_property
+    def scopes(self) -> names.Scopes:
+        return names.Scopes(self.occurrences)
+
     def imports(self) -> list[tuple[ast.Import, Path]]:
         """The files this one imports directly, with the statement naming each."""
         found = []

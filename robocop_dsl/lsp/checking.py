@@ -1,0 +1,56 @@
+"""Checking a mission as ``robocop-mission check`` does, on the server's own parse of
+it: the world through the server's store, the files it imports as the editor has them
+(an open document's unsaved text, else the disk), and no compilation. A check that
+the text has outrun stops between its stages."""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+from pathlib import Path
+from typing import Callable
+
+from ..check import check_graph, check_mission
+from ..check import imports as checked_imports
+from ..compile import build_state_graph
+from ..compile.load import _world_of
+from ..diagnostics import Diagnostic, SourceFile, sort_key, unique
+from ..sources import read_source
+from .project import COLLECTOR, Parsed, Project
+
+_READER = threading.Lock()
+
+
+@contextlib.contextmanager
+def unsaved_imports(texts: dict[Path, str]):
+    """While the block runs, the checker reads an imported file from ``texts`` (the
+    open documents) when it is there: it reads them through its module's
+    ``read_source``, which this replaces for that time (one check at a time)."""
+    def read(path, kind=None) -> SourceFile:
+        text = texts.get(Path(path).resolve())
+        return SourceFile(str(path), text) if text is not None else read_source(path, kind)
+
+    with _READER:
+        checked_imports.read_source = read
+        try:
+            yield
+        finally:
+            checked_imports.read_source = read_source
+
+
+def check(project: Project, parsed: Parsed, stale: Callable[[], bool] = lambda: False
+          ) -> list[Diagnostic] | None:
+    """Every diagnostic of the mission ``parsed``, sorted as ``check`` sorts them;
+    ``None`` when ``stale()`` says the text changed before the check was over."""
+    source, tree = parsed.result.source, parsed.tree
+    with COLLECTOR.paused(), unsaved_imports(dict(project.open)):
+        _, world, loading = _world_of(tree, source, project.worlds)
+        if stale():
+            return None
+        ctx = check_mission(tree, source, world, parsed.path.parent)
+        if stale():
+            return None
+        if parsed.result.ok:
+            check_graph(ctx, ctx.expanded, build_state_graph(ctx.expanded))
+    found = unique([*parsed.result.diagnostics, *loading, *ctx.diagnostics])
+    return sorted(found, key=lambda d: (d.file != source.path, *sort_key(d)))

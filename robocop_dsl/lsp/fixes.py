@@ -1,0 +1,92 @@
+"""Quick fixes: the edits a diagnostic's own words call for.
+
+A "did you mean 'X'?" hint replaces the name its message quotes, inside the
+diagnostic's span, with X (one fix per name offered: ``'a', 'b' or 'c'``); a missing
+``->``, ``=``, ``:``, ``)`` or ``]`` is inserted where it was expected, a ``:`` written
+for ``=`` (or the reverse) is replaced, two statements on one line are split, and a
+block left open is closed where its indentation shows it ends.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..diagnostics import Diagnostic, SourceFile, Span
+from ..lang.syntax_errors import UNCLOSED, code_of, layout_closings
+
+_SUGGESTION = re.compile(r"did you mean ((?:'[^']*'(?:, | or )?)+)\?")
+_QUOTED = re.compile(r"'([^']*)'")
+_MISSING = re.compile(r"missing '([^']+)' before (.+)")
+_WRONG = re.compile(r"expected '([^']+)' here, not '([^']+)'")
+_NEW_LINE = "expected a new line before"
+
+
+@dataclass(frozen=True)
+class Fix:
+    """Replace ``span`` of ``path`` (an empty span: insert there) with ``text``."""
+
+    title: str
+    path: Path
+    span: Span
+    text: str
+    preferred: bool = False
+
+
+def fixes(diagnostic: Diagnostic, path: Path, source: SourceFile | None) -> list[Fix]:
+    """The fixes of ``diagnostic``, located in ``path`` whose text is ``source``."""
+    span = diagnostic.span
+    if source is None or span is None or span.line <= 0 or span.end_line != span.line:
+        return []
+    if diagnostic.hint and _SUGGESTION.search(diagnostic.hint):
+        return _suggested(diagnostic, path, source)
+    if diagnostic.code == "missing-token":
+        return _inserted(diagnostic, path, source)
+    if diagnostic.code == "wrong-token":
+        wrong = _WRONG.match(diagnostic.message)
+        return [Fix(f"write '{wrong.group(1)}'", path, span, wrong.group(1), True)] \
+            if wrong else []
+    return []
+
+
+def _suggested(diagnostic: Diagnostic, path: Path, source: SourceFile) -> list[Fix]:
+    """One fix per name a "did you mean" hint offers, replacing the name the message
+    quotes first (found in the span's text)."""
+    span = diagnostic.span
+    written = source.line(span.line)[span.column - 1:span.end_column - 1]
+    quoted = _QUOTED.search(diagnostic.message)
+    if quoted is None or not quoted.group(1) or quoted.group(1) not in written:
+        return []
+    names = _QUOTED.findall(_SUGGESTION.search(diagnostic.hint).group(1))
+    return [Fix(f"change '{quoted.group(1)}' to '{name}'", path, span,
+                written.replace(quoted.group(1), name, 1), len(names) == 1)
+            for name in names]
+
+
+def _inserted(diagnostic: Diagnostic, path: Path, source: SourceFile) -> list[Fix]:
+    span = diagnostic.span
+    line = source.line(span.line)
+    if diagnostic.message == UNCLOSED:
+        closing = next((c for c in layout_closings(source.text)
+                        if (c.line, c.column) == (span.line, span.column)), None)
+        if closing is None:
+            return []
+        end = len(code_of(source.line(closing.at)).rstrip()) + 1
+        return [Fix("close the block", path, Span(closing.at, end, closing.at, end), "}",
+                    True)]
+    if diagnostic.message.startswith(_NEW_LINE):
+        indent = line[:len(line) - len(line.lstrip())]
+        start = len(line[:span.column - 1].rstrip()) + 1
+        return [Fix("start a new line", path, Span(span.line, start, span.line, span.column),
+                    "\n" + indent, True)]
+    missing = _MISSING.match(diagnostic.message)
+    if missing is None:
+        return []
+    token = missing.group(1)
+    if missing.group(2) == "end of line":
+        column = len(code_of(line).rstrip()) + 1
+        return [Fix(f"insert '{token}'", path, Span(span.line, column, span.line, column),
+                    token, True)]
+    return [Fix(f"insert '{token}'", path, Span(span.line, span.column, span.line, span.column),
+                token + " ", True)]

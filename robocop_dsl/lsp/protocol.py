@@ -1,0 +1,54 @@
+"""The JSON-RPC side of the server: pygls's protocol, with a request whose parameters
+are not valid (a negative position, one past 2^31 - 1, a missing field) answered by an
+error that says what is wrong instead of being dropped."""
+
+from __future__ import annotations
+
+import logging
+
+from pygls.exceptions import JsonRpcInvalidParams, JsonRpcRequestCancelled
+from pygls.protocol import LanguageServerProtocol
+
+
+class _Answered:
+    """A request already answered with an error: there is nothing left to handle."""
+
+    jsonrpc = None
+
+
+def _reasons(error: BaseException) -> list[str]:
+    """The innermost messages of a (grouped) validation error."""
+    inner = getattr(error, "exceptions", None)
+    if not inner:
+        return [str(error)]
+    return [reason for item in inner for reason in _reasons(item)]
+
+
+class MissionProtocol(LanguageServerProtocol):
+    """pygls's language server protocol; malformed requests get an error reply."""
+
+    def structure_message(self, data: dict):
+        kind = self.get_message_type(data.get("method", "")) if "jsonrpc" in data else None
+        if kind is None or "id" not in data:
+            return super().structure_message(data)
+        try:
+            return self._converter.structure(data, kind)
+        except Exception as error:
+            reply = JsonRpcInvalidParams(f"invalid {data['method']} request: "
+                                         + " ".join(_reasons(error)))
+            self._send_response(data["id"], error=reply.to_response_error())
+            return _Answered()
+
+    def handle_message(self, message):
+        if not isinstance(message, _Answered):
+            super().handle_message(message)
+
+
+class Refusals(logging.Filter):
+    """Drops pygls's log record (a traceback) of a request answered by an error on
+    purpose (a rename to a name already taken, a position outside its document, a
+    request cancelled): the client gets the reason as the answer."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        error = record.exc_info[1] if record.exc_info else None
+        return not isinstance(error, (JsonRpcInvalidParams, JsonRpcRequestCancelled))
