@@ -71,7 +71,7 @@ def draw_conditions(job, world) -> Conditions:
             moved = pose.copy()
             moved[:3, 3] = position + pose[:3, 3] - reference
             if body in free:
-                _place_free(world, initial, body, moved)
+                world.place_free(initial, body, moved)
             else:
                 placements[body] = moved
             parameters.update({f"{body}.{axis}": float(value)
@@ -87,17 +87,6 @@ def draw_conditions(job, world) -> Conditions:
     physics = _draw_physics(job, world, parameters)
     changed = bool(job.postures) or any(b in free for move in job.bodies for b in move.bodies)
     return Conditions(placements, initial if changed else None, parameters, physics)
-
-
-def _place_free(world, q: np.ndarray, body: str, pose: np.ndarray) -> None:
-    """Make free ``body`` start at the world pose ``pose`` (4x4) in configuration ``q``."""
-    import pinocchio as pin
-
-    model = world.model
-    joint = model.frames[world.body_frame_id(body)].parentJoint
-    start = model.joints[joint].idx_q
-    local = model.jointPlacements[joint].actInv(pin.SE3(pose))
-    q[start:start + 7] = pin.SE3ToXYZQUAT(local)
 
 
 def _draw_physics(job, world, parameters: dict) -> dict:

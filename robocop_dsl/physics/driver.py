@@ -213,6 +213,16 @@ class MujocoDriver:
         model.eq_data[weld, 10] = 1.0
         data.eq_active[weld] = 1
 
+    def set_pose(self, body: str, pose: pin.SE3) -> None:
+        """Put free ``body`` at ``pose`` (world frame), at rest, as a camera saw it."""
+        if body not in self._free:
+            raise ValueError(f"'{body}' is not a free body: physics does not move it")
+        qpos, dof, *_ = self._free[body]
+        self.data.qpos[qpos:qpos + 3] = pose.translation
+        self.data.qpos[qpos + 3:qpos + 7] = _wxyz(pin.Quaternion(pose.rotation))
+        self.data.qvel[dof:dof + 6] = 0.0
+        self._mujoco.mj_forward(self.model, self.data)
+
     def detach(self, body: str) -> None:
         """Release every weld of ``body``: it falls unless something holds it."""
         for (free, _), weld in self.physics.welds.items():

@@ -22,6 +22,7 @@ class SimulatedDriver:
 
     def __init__(self, world, joint_group: str, time_step: float,
                  initial: np.ndarray | None = None):
+        self.world = world
         self.model = world.model
         self.group = world.joint_group(joint_group)
         self.time_step = float(time_step)
@@ -53,3 +54,7 @@ class SimulatedDriver:
     def hold(self) -> None:
         """Command zero velocity."""
         self._command = np.zeros(self.group.dofs)
+
+    def set_pose(self, body: str, pose) -> None:
+        """Put free ``body`` at ``pose`` (world frame): nothing else moves it here."""
+        self.world.place_free(self.q, body, pose)

@@ -102,6 +102,17 @@ class World:
         (:class:`~.description.ModelEntry`)."""
         return self._assembly.free[body]
 
+    def place_free(self, q: np.ndarray, body: str, pose) -> None:
+        """Put free ``body`` at ``pose`` (``pin.SE3`` or 4x4, world frame) in the
+        configuration ``q`` (its floating joint's coordinates, in place)."""
+        import pinocchio as pin
+
+        model = self.model
+        joint = model.frames[self.body_frame_id(body)].parentJoint
+        start = model.joints[joint].idx_q
+        pose = pose if isinstance(pose, pin.SE3) else pin.SE3(np.asarray(pose, dtype=float))
+        q[start:start + 7] = pin.SE3ToXYZQUAT(model.jointPlacements[joint].actInv(pose))
+
     def link_source(self, body: str) -> tuple:
         """``(URDF path, line)`` of the ``<link>`` of ``body``; ``None`` for a body no
         URDF wrote (``world``)."""
