@@ -55,7 +55,7 @@ def test_one_panel_per_joint_group_with_distinct_colours(drawn):
     for name in ("joint_positions", "velocity_commands"):
         figure = drawn[name]
         assert [ax.get_title(loc="left") for ax in panels(figure)] == [
-            "bazar_left", "bazar_right", "bazar_ptu"]
+            "bazar_left_arm", "bazar_right_arm", "bazar_ptu"]
         for ax in panels(figure):
             colours = signal_colours(ax)
             assert len(colours) == len(set(colours)) > 1
@@ -121,3 +121,25 @@ def test_long_groups_are_cut_in_panels_of_ten():
     joints = [f"arm_joint_{i}" for i in range(1, 15)] + ["panda_joint1", "head_pan"]
     assert [(title, len(members)) for title, members in joint_panels(joints)] == [
         ("arm (1)", 10), ("arm (2)", 4), ("panda", 1), ("head", 1)]
+
+
+def test_a_panel_per_declared_joint_group(tmp_path):
+    """The world's groups the log lists give the panels: BAZAR's two arms and its
+    pan-tilt unit, not its 16 joints by name; the largest groups of ten at most that
+    share no joint, in the world's order."""
+    from robocop_dsl.runtime import load_mission
+    from robocop_dsl.runtime.log import RunLogger
+    from robocop_dsl.runtime.plot import _declared_groups
+
+    runner = load_mission(REPO / "missions" / "pickup.mission").runner()
+    runner.add_observer(RunLogger(tmp_path, runner.joint_names))
+    runner.run(duration=0.05)
+    declared = _declared_groups(tmp_path)
+    assert set(declared) == {"bazar_left_arm", "bazar_right_arm", "bazar_arms", "bazar_ptu",
+                             "bazar_upper_joints"}
+    joints = list(runner.joint_names)
+    assert [(title, len(members)) for title, members in joint_panels(joints, declared)] == [
+        ("bazar_left_arm", 7), ("bazar_right_arm", 7), ("bazar_ptu", 2)]
+    figure = dict(figures(tmp_path))["joint_positions"]
+    assert [ax.get_title(loc="left") for ax in panels(figure)] == [
+        "bazar_left_arm", "bazar_right_arm", "bazar_ptu"]

@@ -10,10 +10,10 @@ import threading
 from pathlib import Path
 from typing import Callable
 
-from ..check import check_graph, check_mission
-from ..check import imports as checked_imports
-from ..compile import build_state_graph
+from ..compile import build_state_graph  # first: it imports the checker
 from ..compile.load import _world_of
+from ..check import check_graph, check_mission  # noqa: I001
+from ..check import imports as checked_imports
 from ..diagnostics import Diagnostic, SourceFile, sort_key, unique
 from ..sources import read_source
 from .project import COLLECTOR, Parsed, Project

@@ -192,9 +192,22 @@ def _value_items(parameter: Parameter | None, known: _Names) -> list[types.Compl
 
 def complete(project: Project, path: Path, line: int, character: int
              ) -> list[types.CompletionItem]:
-    """What may be written at the 0-based position in the mission at ``path``."""
+    """What may be written at the 0-based position (a character column) in the mission
+    at ``path``, each item an edit of the word the position ends."""
     lines = (project.text(path) or "").split("\n")
     current = lines[line][:character] if line < len(lines) else ""
+    start = len(current) - len(re.search(r"\w*$", current).group())
+    typed = types.Range(types.Position(line, start), types.Position(line, len(current)))
+    items = _items(project, path, lines, line, current)
+    for item in items:
+        item.text_edit = types.TextEdit(typed, item.insert_text or item.label)
+        item.insert_text = None
+    return items
+
+
+def _items(project: Project, path: Path, lines: list[str], line: int, current: str
+           ) -> list[types.CompletionItem]:
+    """What may be written after ``current``, the start of the 0-based ``line``."""
     before = re.sub(r"\w*$", "", _code(current))
     blocks = _blocks(lines[:line] + [current])
     block = blocks[-1] if blocks else None

@@ -50,6 +50,10 @@ def file_line(where: str) -> tuple[Path, Span] | None:
     return Path(path), Span.point(int(line))
 
 
+def unknown_document(path: Path) -> str:
+    return f"unknown document {path}: it is neither open nor a mission file that can be read"
+
+
 class Encoding:
     """Columns in characters to and from the agreed encoding's code units. ``source``
     gives the current text of a file (``None`` when it cannot be read); lines are those
@@ -91,6 +95,13 @@ class Encoding:
             uri: [self.edit(uri_to_path(uri), e) for e in edits]
             for uri, edits in (changes.changes or {}).items()})
 
+    def diagnostic(self, path: Path, found: types.Diagnostic) -> types.Diagnostic:
+        """``found``, a diagnostic of ``path``, with its places in code units."""
+        found.range = self.range(path, found.range)
+        for related in found.related_information or []:
+            related.location = self.location(related.location)
+        return found
+
     def column(self, path: Path, line: int, column: int) -> int:
         """The 0-based character ``column`` of 0-based ``line`` in code units."""
         return self.position(path, types.Position(line, column)).character
@@ -103,8 +114,7 @@ class Encoding:
         the line is not in it."""
         source = self.source(path)
         if source is None:
-            raise JsonRpcInvalidParams(f"unknown document {path}: it is not open and "
-                                       "cannot be read")
+            raise JsonRpcInvalidParams(unknown_document(path))
         if position.line >= source.line_count:
             raise JsonRpcInvalidParams(
                 f"line {position.line} is past the end of {path.name} (lines 0 to "

@@ -25,6 +25,7 @@ RENAMABLE = (names.TASK, names.CONSTRAINT, names.STATE, names.FINAL, names.BEHAV
              names.CONSTANT, names.EVENT, names.PARAM, names.REGION, names.VAR)
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _SHARED_NAMES = (names.TASK, names.CONSTRAINT, names.EVENT, names.CONSTANT)
+_LOCAL = (names.STATE, names.FINAL, names.REGION, names.PARAM, names.VAR)
 _TOP_CLASHES = {**{kind: _SHARED_NAMES for kind in _SHARED_NAMES},
                 names.BEHAVIOR: (names.BEHAVIOR,),
                 names.VAR: (names.TASK, names.CONSTRAINT, names.CONSTANT)}
@@ -81,7 +82,8 @@ def _taken(project: Project, target: Target, new_name: str, paths) -> str | None
             if other is not None:
                 return f"the {kind} declared at {other.path.name}:{other.span.line}"
         declared = next((o for o in parsed.occurrences if o.declares
-                         and o.name.span == target.span), None) if path == target.path else None
+                         and o.name.span == target.span), None) \
+            if target.kind in _LOCAL and path == target.path else None
         for other in parsed.occurrences:
             if not other.declares or other.text != new_name:
                 continue

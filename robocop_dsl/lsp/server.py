@@ -1,65 +1,148 @@
-"""The language server for ``.mission`` files (Language Server Protocol over stdio,
-on pygls): diagnostics as you type, completion, hover, definition, references,
-rename, outline, formatting and semantic highlighting."""
+"""The language server for ``.mission`` files (Language Server Protocol over stdio, on
+pygls): diagnostics as you type with their quick fixes, completion, signature help,
+hover, definition, references, highlights, rename, outline, folding, formatting and
+semantic highlighting.
+
+The event loop's thread only reads messages and answers at once: requests are worked
+out on request threads and checks on the checking thread (:mod:`.scheduler`), so that
+an edit, a cancellation or ``exit`` is always read. Positions are in the encoding
+agreed at initialization (:class:`~.positions.Encoding`)."""
 
 from __future__ import annotations
 
+import asyncio
 import logging
+import os
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from typing import Callable
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcInvalidParams
 from pygls.lsp.server import LanguageServer
 
 from .. import __version__
-from . import completion, diagnostics, formatting, hover, navigation, semantic_tokens, symbols
-from .positions import one_based, path_to_uri, uri_to_path
+from . import (checking, completion, diagnostics, folding, formatting, hover, navigation,
+               renames, semantic_tokens, signatures, symbols)
+from ..diagnostics import Span
+from .fixes import Fix
+from .positions import Encoding, path_to_uri, to_range, unknown_document, uri_to_path
 from .project import Project
+from .protocol import MissionProtocol, Refusals
+from .scheduler import Checks
 from .worlds import WorldStore
 
-
-class Refusals(logging.Filter):
-    """Drops pygls's log record (a traceback) of a request refused on purpose, such as
-    a rename to a name already taken: the client gets the reason as the answer."""
-
-    def filter(self, record: logging.LogRecord) -> bool:
-        error = record.exc_info[1] if record.exc_info else None
-        return not isinstance(error, JsonRpcInvalidParams)
-
-
-REFUSALS = Refusals()
+REQUEST_THREADS = 2
 
 
 class MissionServer(LanguageServer):
     """A pygls server holding the :class:`Project` of the editor's workspace."""
 
     def __init__(self):
-        super().__init__("robocop-mission", __version__)
+        super().__init__("robocop-mission", __version__, protocol_cls=MissionProtocol)
         self.project = Project(WorldStore(on_load=self.world_loaded))
+        self.checks = Checks(self.project.open, self.check, self.publish, self.open_importers,
+                             self.check_failed)
+        self.shut_down = False
+        self._requests = ThreadPoolExecutor(REQUEST_THREADS, thread_name_prefix="request")
+        self._loop: asyncio.AbstractEventLoop | None = None
 
+    # ---- threads ----
+    async def answer(self, work: Callable, *args):
+        """``work(*args)`` worked out on a request thread."""
+        return await asyncio.get_running_loop().run_in_executor(self._requests, work, *args)
+
+    def on_loop(self, call: Callable, *args) -> None:
+        """``call(*args)`` on the event loop's thread (where messages are sent)."""
+        if self._loop is None:
+            call(*args)
+        else:
+            self._loop.call_soon_threadsafe(call, *args)
+
+    def encoding(self) -> Encoding:
+        return Encoding(self.workspace.position_encoding, self.project.source)
+
+    def document(self, params) -> Path:
+        """The path of a request's document (refused when it is unknown)."""
+        path = uri_to_path(params.text_document.uri)
+        if self.project.text(path) is None:
+            raise JsonRpcInvalidParams(unknown_document(path))
+        return path
+
+    def place(self, params) -> tuple[Encoding, Path, int, int]:
+        """The encoding, and the document, 0-based line and character column of a
+        request's position (refused when it is not in its document)."""
+        encoding = self.encoding()
+        path = uri_to_path(params.text_document.uri)
+        return (encoding, path, *encoding.decode(path, params.position))
+
+    # ---- checks ----
     def world_loaded(self, path: Path) -> None:
-        self.window_log_message(types.LogMessageParams(types.MessageType.Info,
-                                                       f"loaded world {path}"))
+        self.on_loop(self.window_log_message,
+                     types.LogMessageParams(types.MessageType.Info, f"loaded world {path}"))
 
-    def publish(self, path: Path) -> None:
-        """Check ``path``'s current text and send its diagnostics."""
-        found = diagnostics.diagnostics(self.project, path)
-        self.text_document_publish_diagnostics(
-            types.PublishDiagnosticsParams(uri=path_to_uri(path), diagnostics=found))
+    def check(self, path: Path, text: str, stale: Callable[[], bool]):
+        """On the checking thread: the protocol diagnostics of ``text`` as the content
+        of ``path``, ``None`` when ``stale()`` turns true first."""
+        parsed = self.project.parse(path, text)
+        found = None if stale() else checking.check(self.project, parsed, stale)
+        if found is None:
+            return None
+        encoding = self.encoding()
+        return [encoding.diagnostic(path, diagnostics.convert(self.project, parsed, d))
+                for d in found]
+
+    def publish(self, path: Path, found: list[types.Diagnostic], version: int | None) -> None:
+        self.text_document_publish_diagnostics(types.PublishDiagnosticsParams(
+            uri=path_to_uri(path), diagnostics=found, version=version))
+
+    def check_failed(self, path: Path, error: BaseException) -> None:
+        self.window_log_message(types.LogMessageParams(
+            types.MessageType.Error, f"checking {path} failed: {type(error).__name__}: {error}"))
+
+    def open_importers(self, path: Path) -> list[Path]:
+        return self.project.importers(path, list(self.project.open))
 
     def recheck_open(self) -> None:
         for path in list(self.project.open):
-            self.publish(path)
+            self.checks.request(path, 0, edited=False)
+
+
+def _code_actions(ls: MissionServer, params: types.CodeActionParams) -> list[types.CodeAction]:
+    """The quick fixes the diagnostics of the request carry."""
+    encoding, actions = ls.encoding(), []
+    for diagnostic in params.context.diagnostics:
+        for data in diagnostic.data or []:
+            fix = Fix(data["title"], uri_to_path(data["uri"]), _span(data), data["text"])
+            edit = types.TextEdit(to_range(fix.span), fix.text)
+            actions.append(types.CodeAction(
+                fix.title, kind=types.CodeActionKind.QuickFix, diagnostics=[diagnostic],
+                is_preferred=data["preferred"] or None,
+                edit=types.WorkspaceEdit(changes={data["uri"]: [encoding.edit(fix.path, edit)]})))
+    return actions
+
+
+def _span(data: dict) -> Span:
+    return Span(data["line"], data["column"], data["end_line"], data["end_column"])
+
+
+def _symbols(encoding: Encoding, path: Path, found: list[types.DocumentSymbol]):
+    for symbol in found:
+        symbol.range = encoding.range(path, symbol.range)
+        symbol.selection_range = encoding.range(path, symbol.selection_range)
+        _symbols(encoding, path, symbol.children or [])
+    return found
 
 
 def build_server() -> MissionServer:
     """A server with every feature registered."""
     server = MissionServer()
     project = server.project
-    logging.getLogger("pygls.protocol.json_rpc").addFilter(REFUSALS)
+    logging.getLogger("pygls.protocol.json_rpc").addFilter(Refusals())
 
     @server.feature(types.INITIALIZED)
     def initialized(ls: MissionServer, params: types.InitializedParams):
+        ls._loop = asyncio.get_running_loop()
         folders = ls.workspace.folders.values()
         project.roots = [uri_to_path(f.uri) for f in folders]
         if not project.roots and ls.workspace.root_path:
@@ -69,14 +152,16 @@ def build_server() -> MissionServer:
     def did_open(ls: MissionServer, params: types.DidOpenTextDocumentParams):
         path = uri_to_path(params.text_document.uri)
         project.open[path] = params.text_document.text
-        ls.publish(path)
+        ls.checks.versions[path] = params.text_document.version
+        ls.checks.request(path, 0)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
     def did_change(ls: MissionServer, params: types.DidChangeTextDocumentParams):
         document = ls.workspace.get_text_document(params.text_document.uri)
         path = uri_to_path(params.text_document.uri)
         project.open[path] = document.source
-        ls.publish(path)
+        ls.checks.versions[path] = params.text_document.version
+        ls.checks.request(path)
 
     @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
     def did_save(ls: MissionServer, params: types.DidSaveTextDocumentParams):
@@ -88,59 +173,133 @@ def build_server() -> MissionServer:
 
     @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
     def did_close(ls: MissionServer, params: types.DidCloseTextDocumentParams):
-        project.open.pop(uri_to_path(params.text_document.uri), None)
+        path = uri_to_path(params.text_document.uri)
+        project.open.pop(path, None)
+        project.forget(path)
         ls.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[]))
 
+    @server.feature(types.SHUTDOWN)
+    def shutdown(ls: MissionServer, params):
+        ls.shut_down = True
+        ls.checks.stop()
+
+    @server.feature(types.EXIT)
+    def exit_now(ls: MissionServer, params):
+        """End the process at once: a check or a request still being worked out on its
+        thread is dropped (nothing is written after the last answer)."""
+        os._exit(0 if ls.shut_down else 1)
+
     @server.feature(types.TEXT_DOCUMENT_COMPLETION,
-                    types.CompletionOptions(trigger_characters=[":", "(", ".", " ", ",", "="]))
-    def complete(ls: MissionServer, params: types.CompletionParams):
-        position = params.position
-        items = completion.complete(project, uri_to_path(params.text_document.uri),
-                                    position.line, position.character)
-        return types.CompletionList(is_incomplete=False, items=items)
+                    types.CompletionOptions(trigger_characters=[":", "(", ".", " ", ",", "=",
+                                                                "{"]))
+    async def complete(ls: MissionServer, params: types.CompletionParams):
+        def work():
+            encoding, path, line, character = ls.place(params)
+            items = completion.complete(project, path, line, character)
+            for item in items:
+                item.text_edit = encoding.edit(path, item.text_edit)
+            return types.CompletionList(is_incomplete=False, items=items)
+        return await ls.answer(work)
+
+    @server.feature(types.TEXT_DOCUMENT_SIGNATURE_HELP,
+                    types.SignatureHelpOptions(trigger_characters=["(", ","],
+                                               retrigger_characters=[" ", "="]))
+    async def signature(ls: MissionServer, params: types.SignatureHelpParams):
+        def work():
+            _, path, line, character = ls.place(params)
+            return signatures.signature_help(project, path, line, character)
+        return await ls.answer(work)
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
-    def on_hover(ls: MissionServer, params: types.HoverParams):
-        return hover.hover(project, uri_to_path(params.text_document.uri),
-                           *one_based(params.position))
+    async def on_hover(ls: MissionServer, params: types.HoverParams):
+        def work():
+            encoding, path, line, character = ls.place(params)
+            found = hover.hover(project, path, line + 1, character + 1)
+            if found is not None and found.range is not None:
+                found.range = encoding.range(path, found.range)
+            return found
+        return await ls.answer(work)
 
     @server.feature(types.TEXT_DOCUMENT_DEFINITION)
-    def definition(ls: MissionServer, params: types.DefinitionParams):
-        return navigation.definition(project, uri_to_path(params.text_document.uri),
-                                     *one_based(params.position))
+    async def definition(ls: MissionServer, params: types.DefinitionParams):
+        def work():
+            encoding, path, line, character = ls.place(params)
+            found = navigation.definition(project, path, line + 1, character + 1)
+            return [encoding.location(f) for f in found]
+        return await ls.answer(work)
 
     @server.feature(types.TEXT_DOCUMENT_REFERENCES)
-    def references(ls: MissionServer, params: types.ReferenceParams):
-        _, _, target = navigation.target_at(project, uri_to_path(params.text_document.uri),
-                                            *one_based(params.position))
-        if target is None:
-            return []
-        return navigation.references(project, target, params.context.include_declaration)
+    async def references(ls: MissionServer, params: types.ReferenceParams):
+        def work():
+            encoding, path, line, character = ls.place(params)
+            _, _, target = navigation.target_at(project, path, line + 1, character + 1)
+            if target is None:
+                return []
+            found = navigation.references(project, target, params.context.include_declaration)
+            return [encoding.location(f) for f in found]
+        return await ls.answer(work)
+
+    @server.feature(types.TEXT_DOCUMENT_DOCUMENT_HIGHLIGHT)
+    async def highlight(ls: MissionServer, params: types.DocumentHighlightParams):
+        def work():
+            encoding, path, line, character = ls.place(params)
+            found = navigation.highlights(project, path, line + 1, character + 1)
+            for place in found:
+                place.range = encoding.range(path, place.range)
+            return found
+        return await ls.answer(work)
 
     @server.feature(types.TEXT_DOCUMENT_PREPARE_RENAME)
-    def prepare_rename(ls: MissionServer, params: types.PrepareRenameParams):
-        return navigation.prepare_rename(project, uri_to_path(params.text_document.uri),
-                                         *one_based(params.position))
+    async def prepare_rename(ls: MissionServer, params: types.PrepareRenameParams):
+        def work():
+            encoding, path, line, character = ls.place(params)
+            found = renames.prepare_rename(project, path, line + 1, character + 1)
+            return encoding.range(path, found) if found is not None else None
+        return await ls.answer(work)
 
     @server.feature(types.TEXT_DOCUMENT_RENAME)
-    def rename(ls: MissionServer, params: types.RenameParams):
-        return navigation.rename(project, uri_to_path(params.text_document.uri),
-                                 *one_based(params.position), params.new_name)
+    async def rename(ls: MissionServer, params: types.RenameParams):
+        def work():
+            encoding, path, line, character = ls.place(params)
+            found = renames.rename(project, path, line + 1, character + 1, params.new_name)
+            return encoding.workspace_edit(found) if found is not None else None
+        return await ls.answer(work)
+
+    @server.feature(types.TEXT_DOCUMENT_CODE_ACTION,
+                    types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]))
+    async def code_action(ls: MissionServer, params: types.CodeActionParams):
+        return await ls.answer(_code_actions, ls, params)
 
     @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
-    def outline(ls: MissionServer, params: types.DocumentSymbolParams):
-        parsed = project.parsed(uri_to_path(params.text_document.uri))
-        return symbols.document_symbols(parsed.tree) if parsed else []
+    async def outline(ls: MissionServer, params: types.DocumentSymbolParams):
+        def work():
+            path = ls.document(params)
+            return _symbols(ls.encoding(), path,
+                            symbols.document_symbols(project.parsed(path).tree))
+        return await ls.answer(work)
+
+    @server.feature(types.TEXT_DOCUMENT_FOLDING_RANGE)
+    async def fold(ls: MissionServer, params: types.FoldingRangeParams):
+        def work():
+            return folding.folding_ranges(project.text(ls.document(params)))
+        return await ls.answer(work)
 
     @server.feature(types.TEXT_DOCUMENT_FORMATTING)
-    def format_document(ls: MissionServer, params: types.DocumentFormattingParams):
-        parsed = project.parsed(uri_to_path(params.text_document.uri))
-        return formatting.format_document(parsed) if parsed else None
+    async def format_document(ls: MissionServer, params: types.DocumentFormattingParams):
+        def work():
+            path = ls.document(params)
+            found = formatting.format_document(project.parsed(path))
+            return [ls.encoding().edit(path, e) for e in found] if found is not None else None
+        return await ls.answer(work)
 
     @server.feature(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, semantic_tokens.LEGEND)
-    def tokens(ls: MissionServer, params: types.SemanticTokensParams):
-        parsed = project.parsed(uri_to_path(params.text_document.uri))
-        return semantic_tokens.semantic_tokens(project, parsed) if parsed else None
+    async def tokens(ls: MissionServer, params: types.SemanticTokensParams):
+        def work():
+            path, encoding = ls.document(params), ls.encoding()
+            return semantic_tokens.semantic_tokens(
+                project, project.parsed(path),
+                lambda line, character: encoding.column(path, line, character))
+        return await ls.answer(work)
 
     return server

@@ -14,7 +14,8 @@ force sensor's reading: what the body exerts on the environment, world frame, to
 about the body's origin; NaN while the driver measures none; the fields' ``unit``
 metadata says ``N`` or ``Nm``), ``var.NAME`` (each var's value, SI; a position as
 ``var.NAME.x|y|z``; NaN until assigned; the field's ``unit`` metadata gives its unit),
-``cycle_time`` and ``compute_time`` [s]. Read it with :func:`read_timeseries`,
+``cycle_time`` and ``compute_time`` [s]. The schema's metadata ``joint_groups`` lists the
+world's joint groups made of logged joints (``plot`` draws a panel per group). Read it with :func:`read_timeseries`,
 ``pandas.read_parquet`` or ``pyarrow.parquet.read_table(...)``.
 
 The time series is streamed: every second of mission time a writer thread turns the
@@ -79,6 +80,7 @@ class RunLogger(Observer):
         self._bodies: list = []
         self._sensors: list = []
         self._variables: dict = {}
+        self._joint_groups: dict = {}
 
     def on_start(self, runner) -> None:
         """Size the row groups to the run's period and give every task of the run its
@@ -88,6 +90,7 @@ class RunLogger(Observer):
         self._units = {task.name: _error_unit(task) for task in runner.tasks()}
         self._bodies = list(getattr(runner, "free_bodies", ()))
         self._sensors = list(runner.sensors.bodies) if hasattr(runner, "sensors") else []
+        self._joint_groups = declared_groups(runner.controller.world, self.joint_names)
         variables = getattr(runner, "variables", None)
         self._variables = {name: (spec.size, spec.unit)
                            for name, spec in (variables.specs.items() if variables else ())}
@@ -131,7 +134,8 @@ class RunLogger(Observer):
             self._tasks = {v.name: len(reference_vector(v.reference))
                            for r in records for v in r.tasks}
         self._schema = pa.schema(_fields(self.joint_names, self._tasks, self._units,
-                                         self._bodies, self._sensors, self._variables))
+                                         self._bodies, self._sensors, self._variables),
+                                 metadata={GROUPS_KEY: json.dumps(self._joint_groups)})
         shutil.rmtree(self.folder / PARTS, ignore_errors=True)
         (self.folder / PARTS).mkdir()
         (self.folder / TIMESERIES).unlink(missing_ok=True)
@@ -242,6 +246,22 @@ def wrench_columns(body: str) -> list:
     """The time series' columns of the force sensor on ``body``: force [N] then torque
     [N m], x, y, z."""
     return [f"{part}.{body}.{axis}" for part in ("force", "torque") for axis in "xyz"]
+
+
+GROUPS_KEY = b"joint_groups"
+"""The time series' schema metadata holding the world's joint groups (JSON: name ->
+joints) made of logged joints only, for ``plot``'s panels."""
+
+
+def declared_groups(world, joints: list) -> dict:
+    """The world's declared joint groups whose joints all are among ``joints``."""
+    logged = set(joints)
+    found = {}
+    for name in world.group_names():
+        members = list(world.joint_group(name).joints)
+        if members and set(members) <= logged:
+            found[name] = members
+    return found
 
 
 def var_columns(name: str, size: int) -> list:

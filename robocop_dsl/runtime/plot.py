@@ -2,9 +2,12 @@
 velocity commands with one panel per joint group, task errors with one panel per
 dimension, all under a strip of the states, one row per machine.
 
-- Joints are grouped by their name up to the word ``joint`` (``bazar_left_joint_3`` ->
-  ``bazar_left``, ``panda_joint4`` -> ``panda``); a group of more than ten joints is
-  cut into panels of ten, so that the ten colours of a panel are all different.
+- Joints: a panel per joint group the world declares (as the log's metadata lists
+  them): the largest groups of at most ten joints that share none, in the world's
+  order; the joints no such group holds are grouped by their name up to the word
+  ``joint`` (``bazar_left_joint_3`` -> ``bazar_left``, ``panda_joint4`` -> ``panda``), and
+  a group of more than ten joints is cut into panels of ten, so that the ten colours
+  of a panel are all different.
 - Task errors: a panel per unit. A column's unit is the ``unit`` of its field's
   metadata when the log gives one; else it follows from the width of the task's logged
   reference: 2 a gaze angle [rad], 3 a position [m], 6 a pose or an orientation (the
@@ -66,15 +69,25 @@ def legend_columns(names: list) -> int:
     return max(1, min(len(names), 8, LEGEND_CHARACTERS // (longest + 6)))
 
 
-def joint_panels(joints: list) -> list:
-    """``(title, joints)`` per panel: joints grouped by their name up to ``joint``, in
-    first-seen order, groups longer than :data:`PANEL_LINES` cut in pieces."""
+def joint_panels(joints: list, declared: dict | None = None) -> list:
+    """``(title, joints)`` per panel: the ``declared`` joint groups (name -> joints)
+    chosen as the module says, then the other joints grouped by their name up to
+    ``joint``, in first-seen order, groups longer than :data:`PANEL_LINES` cut in
+    pieces."""
+    panels, covered = [], set()
+    fitting = [(name, members) for name, members in (declared or {}).items()
+               if len(members) <= PANEL_LINES and set(members) <= set(joints)]
+    for name, members in sorted(fitting, key=lambda item: -len(item[1])):
+        if not covered & set(members):
+            panels.append((name, [j for j in joints if j in members]))
+            covered |= set(members)
+    order = {name: index for index, name in enumerate(declared or {})}
+    panels.sort(key=lambda panel: order[panel[0]])
     groups: dict = {}
-    for joint in joints:
+    for joint in (j for j in joints if j not in covered):
         match = _JOINT_WORD.match(joint)
         key = match.group(1) if match and match.group(1) else joint.rsplit("_", 1)[0]
         groups.setdefault(key, []).append(joint)
-    panels = []
     for key, members in groups.items():
         pieces = [members[i:i + PANEL_LINES] for i in range(0, len(members), PANEL_LINES)]
         for number, piece in enumerate(pieces, start=1):
@@ -143,6 +156,16 @@ def _field_units(folder: Path) -> dict:
             if field.metadata and b"unit" in field.metadata}
 
 
+def _declared_groups(folder: Path) -> dict:
+    """The joint groups the log's metadata lists (none for a log written before)."""
+    import json
+
+    from .log import GROUPS_KEY
+
+    metadata = timeseries_schema(folder).metadata or {}
+    return json.loads(metadata[GROUPS_KEY]) if GROUPS_KEY in metadata else {}
+
+
 def _final_state(folder: Path) -> tuple | None:
     """``(configuration, outcome)`` of the final state the run ended in, if any."""
     if not (folder / EVENTS).is_file():
@@ -183,6 +206,7 @@ def figures(folder: str | Path):
     states = StateBands(data["time"], np.asarray(data["state"]).astype(str),
                         _final_state(folder), plt)
     units = error_units(data, _field_units(folder))
+    declared = _declared_groups(folder)
     for name, (prefix, label) in FIGURES.items():
         if label is None:
             panels = [(ERROR_PANELS[unit], [c for c, u in units.items() if u == unit])
@@ -191,7 +215,7 @@ def figures(folder: str | Path):
         else:
             joints = [c[len(prefix):] for c in data if c.startswith(prefix)]
             panels = [(title, [prefix + j for j in members], label)
-                      for title, members in joint_panels(joints)]
+                      for title, members in joint_panels(joints, declared)]
         yield name, draw(data, panels, prefix, states, plt)
     sensors = force_panels(list(data))
     if sensors:
