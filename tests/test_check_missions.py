@@ -68,7 +68,7 @@ def test_without_world_the_mission_checks_still_run():
 
 def test_may_be_enabled_follows_disable(bazar):
     """A task disabled on the only path before a state is reported in that state."""
-    text = ("task t: body_pose(pickup_point)\n"
+    text = ("task t: body_pose(bazar_left_hankamp_tool_object_side)\n"
             "state a {\n  enter { enable t }\n  exit { disable t }\n  when t.reached -> b\n}\n"
             "state b {\n  when t.reached -> done\n}\nfinal done\n")
     result = check_source(HEAD + text, "t.mission", world=bazar)

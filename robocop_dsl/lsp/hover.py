@@ -16,9 +16,10 @@ from ..lang.formatter import format_value, item_lines
 from ..lang.units import UNITS
 from . import names
 from .completion import units_text
-from .navigation import BODY, JOINT, JOINT_GROUP, target_at
+from .navigation import target_at
 from .positions import to_range
 from .project import Project
+from .resolve import BODY, JOINT, JOINT_GROUP
 
 
 def _kind_text(kind: Kind, family: str) -> str:
@@ -160,7 +161,7 @@ def hover(project: Project, path: Path, line: int, column: int) -> types.Hover |
             text = _group_text(world, target.name, target.kind)
         elif isinstance(target.node, ast.VarDecl):
             text = _var_text(parsed, target.node)
-        elif target.node is not None:
+        elif target.node is not None and not isinstance(target.node, ast.Region):
             text = _declaration_text(target.node)
         else:
             text = f"**{target.name}** ({target.kind})"

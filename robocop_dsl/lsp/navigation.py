@@ -1,187 +1,29 @@
-"""Go to definition, find references and document highlights: a name as written
-resolves to the declaration it means (in this file, a file it imports, or the world's
-YAML or URDF), the same way the checker reads it."""
+"""Go to definition, find references, document highlights and rename.
+
+A rename is refused, saying why (an error for the client), when the new name is no
+name, is a keyword, or already names something the checker would then confuse it with
+where it is seen: another task, constraint, event or constant (a var too) for those;
+another behaviour; another state of the same machine; another region of the same
+state; another parameter of the same behaviour; and for a var, what :func:`_clashes`
+says."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from functools import cached_property
+import functools
+import re
 from pathlib import Path
 
 from lsprotocol import types
+from pygls.exceptions import JsonRpcInvalidParams
 
 from ..diagnostics import Span
 from ..lang import ast
+from ..lang.parser import mission_grammar
+from ..lang.syntax_errors import RESERVED
 from . import names
-from .positions import file_line, location, to_range
+from .positions import location, path_to_uri, to_range
 from .project import Parsed, Project
-
-# What the world declares.
-BODY = "body"
-JOINT_GROUP = "joint group"
-JOINT = "joint"
-CONTROLLER = "controller"
-WORLD_KINDS = (BODY, JOINT_GROUP, JOINT, CONTROLLER)
-
-LOCAL = (names.STATE, names.FINAL, names.PARAM, names.REGION, names.VAR)
-"""What only its own file can name."""
-_TOP = {ast.TaskDecl: names.TASK, ast.ConstraintDecl: names.CONSTRAINT,
-        ast.EventDecl: names.EVENT, ast.BehaviorDecl: names.BEHAVIOR, ast.Let: names.CONSTANT}
-_LOOKUP = {
-    names.CONTROLLED: (names.PARAM, names.TASK, names.CONSTRAINT),
-    names.OWNER: (names.PARAM, names.STATE, names.TASK, names.CONSTRAINT, BODY),
-    names.STATE: (names.STATE,),
-    names.EVENT: (names.PARAM, names.EVENT),
-    names.BEHAVIOR: (names.BEHAVIOR,),
-    names.VALUE: (names.PARAM, names.CONSTANT, names.TASK, names.CONSTRAINT, names.EVENT,
-                  BODY, JOINT_GROUP, JOINT),
-    names.BODY: (names.PARAM, names.CONSTANT, BODY),
-    names.SET: (names.PARAM, names.CONSTANT, BODY, JOINT_GROUP),
-    names.READ: (names.PARAM, names.VAR, names.CONSTANT),
-    names.ASSIGNED: (names.VAR,),
-    names.SUBJECT: (BODY, JOINT_GROUP, JOINT),
-    names.CONTROLLER: (CONTROLLER,),
-}
-
-
-@dataclass(frozen=True)
-class Target:
-    """What a name resolves to: its kind, the file and span of the declaring name (or
-    the world file's line), and the declaration node when it is in a mission."""
-
-    kind: str
-    name: str
-    path: Path
-    span: Span
-    node: object = field(default=None, compare=False)
-
-    @property
-    def key(self) -> tuple:
-        return self.path, self.span.line, self.span.column
-
-    def location(self) -> types.Location:
-        return location(self.path, self.span)
-
-
-def top_level(project: Project, parsed: Parsed) -> dict[tuple[str, str], Target]:
-    """Declarations of ``parsed`` and the files it imports, by (kind, name): the
-    file's own first, then its imports'."""
-    table: dict[tuple[str, str], Target] = {}
-    for source in project.closure_of(parsed):
-        for item in source.tree.items:
-            kind = _TOP.get(type(item))
-            if kind is not None:
-                table.setdefault((kind, item.name.text),
-                                 Target(kind, item.name.text, source.path, item.name.span, item))
-    return table
-
-
-def _state_target(path: Path, occurrence: names.Occurrence) -> Target:
-    return Target(occurrence.role, occurrence.text, path, occurrence.name.span, occurrence.node)
-
-
-class Resolver:
-    """Resolves the names of one parsed file; its declarations' table and its world
-    are looked up once. Without ``world`` the world's bodies, joints and controllers
-    are not looked up."""
-
-    def __init__(self, project: Project, parsed: Parsed, world: bool = True):
-        self.project, self.parsed, self.uses_world = project, parsed, world
-
-    @cached_property
-    def table(self) -> dict[tuple[str, str], Target]:
-        return top_level(self.project, self.parsed)
-
-    @cached_property
-    def world(self):
-        return self.project.world(self.parsed.path) if self.uses_world else None
-
-    def __call__(self, occurrence: names.Occurrence) -> Target | None:
-        """The declaration that ``occurrence`` declares or names, ``None`` when
-        unknown."""
-        path = self.parsed.path
-        if occurrence.declares:
-            return Target(occurrence.role, occurrence.text, path, occurrence.name.span,
-                          occurrence.node)
-        if occurrence.role == names.ARGUMENT:
-            return self._parameter(occurrence)
-        if occurrence.role in (names.FIELD, names.REGION):
-            return self._member(occurrence)
-        for kind in _LOOKUP.get(occurrence.role, ()):
-            found = self._lookup(kind, occurrence)
-            if found is not None:
-                return found
-        return None
-
-    def _lookup(self, kind: str, occurrence: names.Occurrence) -> Target | None:
-        scopes, path = self.parsed.scopes, self.parsed.path
-        if kind == names.PARAM:
-            parameter = next((p for p in occurrence.behavior.parameters
-                              if p.name.text == occurrence.text), None) \
-                if occurrence.behavior is not None else None
-            return Target(names.PARAM, occurrence.text, path, parameter.name.span) \
-                if parameter is not None else None
-        if kind == names.STATE:
-            found = scopes.state(occurrence, occurrence.text)
-            return _state_target(path, found) if found is not None else None
-        if kind == names.VAR:
-            found = scopes.variable(occurrence, occurrence.text)
-            return Target(names.VAR, found.text, path, found.name.span, found.node) \
-                if found is not None else None
-        if kind in WORLD_KINDS:
-            return self._world_target(kind, occurrence.text)
-        return self.table.get((kind, occurrence.text))
-
-    def _parameter(self, occurrence: names.Occurrence) -> Target | None:
-        """The behaviour parameter a named argument of an instance sets."""
-        behavior = self.table.get((names.BEHAVIOR, occurrence.context))
-        parameter = next((p for p in behavior.node.parameters
-                          if p.name.text == occurrence.text), None) if behavior else None
-        return Target(names.PARAM, parameter.name.text, behavior.path, parameter.name.span) \
-            if parameter else None
-
-    def _member(self, occurrence: names.Occurrence) -> Target | None:
-        """A final or region named after a state's dot: ``pick.arrived``, ``both.left``."""
-        owner = self.parsed.scopes.state(occurrence, occurrence.context)
-        state = owner.node if owner is not None else None
-        if not isinstance(state, ast.StateDecl):
-            return None
-        if occurrence.role == names.REGION:
-            region = next((r for r in state.regions if r.name is not None
-                           and r.name.text == occurrence.text), None)
-            return Target(names.REGION, region.name.text, self.parsed.path,
-                          region.name.span) if region else None
-        machines = [(self.parsed.path, r.machine) for r in state.regions
-                    if r.machine is not None]
-        if state.instance is not None:
-            behavior = self.table.get((names.BEHAVIOR, state.instance.behavior.text))
-            if behavior is not None:
-                machines.append((behavior.path, behavior.node.machine))
-        for path, machine in machines:
-            for inner in machine.states:
-                if inner.final and inner.name.text == occurrence.text:
-                    return Target(names.FINAL, inner.name.text, path, inner.name.span, inner)
-        return None
-
-    def _world_target(self, kind: str, name: str) -> Target | None:
-        world = self.world
-        if world is None:
-            return None
-        description = self.project.worlds.description(world.path)
-        where = None
-        if kind == BODY and world.has_body(name):
-            where = file_line(world.body(name).where)
-        elif kind == JOINT and name in world.joint_names():
-            where = file_line(world.joint(name).where)
-        elif kind == JOINT_GROUP and description is not None and name in description.groups:
-            at = description.groups[name].at
-            where = Path(at.source.path), at.span
-        elif kind == CONTROLLER and description is not None \
-                and name in description.processors:
-            at = description.processors[name].at
-            where = Path(at.source.path), at.span
-        return Target(kind, name, *where) if where else None
-
+from .resolve import LOCAL, WORLD_KINDS, Resolver, Target, top_level
 
 def target_at(project: Project, path: Path, line: int, column: int):
     """The parsed file, the name at a 1-based position and what it resolves to."""
@@ -263,3 +105,106 @@ def highlights(project: Project, path: Path, line: int, column: int
         types.DocumentHighlightKind.Write if o.declares or o.role == names.ASSIGNED
         else types.DocumentHighlightKind.Read)
         for _, o in _places(project, target, [path])]
+
+
+RENAMABLE = (names.TASK, names.CONSTRAINT, names.STATE, names.FINAL, names.BEHAVIOR,
+             names.CONSTANT, names.EVENT, names.PARAM, names.REGION, names.VAR)
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+_SHARED_NAMES = (names.TASK, names.CONSTRAINT, names.EVENT, names.CONSTANT)
+_LOCAL = (names.STATE, names.FINAL, names.REGION, names.PARAM, names.VAR)
+_TOP_CLASHES = {**{kind: _SHARED_NAMES for kind in _SHARED_NAMES},
+                names.BEHAVIOR: (names.BEHAVIOR,),
+                names.VAR: (names.TASK, names.CONSTRAINT, names.CONSTANT)}
+
+
+@functools.cache
+def keywords() -> frozenset[str]:
+    """The words the parser may read as keywords: no name may be one of them."""
+    spelled = {t.pattern.value for t in mission_grammar().terminals
+               if t.pattern.type == "str" and _IDENTIFIER.match(t.pattern.value)}
+    return RESERVED | spelled
+
+
+def _top(occurrence: names.Occurrence) -> bool:
+    """Whether ``occurrence`` declares a var at the top of its file (seen everywhere)."""
+    return occurrence.role == names.VAR and occurrence.behavior is None \
+        and len(occurrence.machines) == 1
+
+
+def _shared(first: names.Occurrence, second: names.Occurrence) -> bool:
+    """Whether two declarations share a place where both names are seen: one is a
+    top var, or the machine of one is, or is around, the other's."""
+    return (_top(first) or _top(second)
+            or any(m is first.machines[0] for m in second.machines)
+            or any(m is second.machines[0] for m in first.machines))
+
+
+def _clashes(declared: names.Occurrence, other: names.Occurrence) -> bool:
+    """Whether the declaration ``other``, once it has the same name, would be confused
+    with ``declared`` (a state, final, region, parameter or var)."""
+    kind = declared.role
+    if other.role == names.VAR or kind == names.VAR:
+        return other.role in (names.VAR, names.PARAM, names.STATE, names.FINAL) \
+            and _shared(declared, other)
+    if kind in (names.STATE, names.FINAL):
+        return other.role in (names.STATE, names.FINAL) \
+            and other.machines[0] is declared.machines[0]
+    if kind == names.REGION:
+        return other.role == names.REGION and other.context == declared.context \
+            and other.machines[0] is declared.machines[0]
+    return other.role == names.PARAM and other.behavior is declared.behavior
+
+
+def _taken(project: Project, target: Target, new_name: str, paths) -> str | None:
+    """What already has ``new_name`` where the renamed declaration is named, as "the
+    KIND declared at FILE:LINE"; ``None`` when the name is free."""
+    for path in paths:
+        parsed = project.parsed(path)
+        if parsed is None:
+            continue
+        table = top_level(project, parsed)
+        for kind in _TOP_CLASHES.get(target.kind, ()):
+            other = table.get((kind, new_name))
+            if other is not None:
+                return f"the {kind} declared at {other.path.name}:{other.span.line}"
+        declared = next((o for o in parsed.occurrences if o.declares
+                         and o.name.span == target.span), None) \
+            if target.kind in _LOCAL and path == target.path else None
+        for other in parsed.occurrences:
+            if not other.declares or other.text != new_name:
+                continue
+            if (declared is not None and _clashes(declared, other)) or (
+                    target.kind in _SHARED_NAMES and other.role == names.VAR):
+                return f"the {other.role} declared at {path.name}:{other.name.span.line}"
+    return None
+
+
+def rename(project: Project, path: Path, line: int, column: int,
+           new_name: str) -> types.WorkspaceEdit | None:
+    """Edits renaming the declaration under the 1-based position everywhere it is
+    named; refused (an error for the client) when ``new_name`` is no name or is taken."""
+    _, _, target = target_at(project, path, line, column)
+    if target is None or target.kind not in RENAMABLE:
+        return None
+    if not _IDENTIFIER.match(new_name) or new_name in keywords():
+        raise JsonRpcInvalidParams(f"'{new_name}' is not a name: letters, digits and _, "
+                                   "not starting with a digit, not a keyword")
+    places = naming(project, target)
+    if new_name != target.name:
+        taken = _taken(project, target, new_name, dict.fromkeys(p for p, _ in places))
+        if taken is not None:
+            raise JsonRpcInvalidParams(f"cannot rename '{target.name}' to '{new_name}': "
+                                       f"'{new_name}' is already {taken}")
+    changes: dict[str, list[types.TextEdit]] = {}
+    for place, occurrence in places:
+        changes.setdefault(path_to_uri(place), []).append(
+            types.TextEdit(to_range(occurrence.name.span), new_name))
+    return types.WorkspaceEdit(changes=changes)
+
+
+def prepare_rename(project: Project, path: Path, line: int, column: int):
+    """The range of a renamable name under the 1-based position, else ``None``."""
+    _, occurrence, target = target_at(project, path, line, column)
+    if target is None or target.kind not in RENAMABLE:
+        return None
+    return to_range(occurrence.name.span)

@@ -1,13 +1,16 @@
 """The JSON-RPC side of the server: pygls's protocol, with a request whose parameters
 are not valid (a negative position, one past 2^31 - 1, a missing field) answered by an
-error that says what is wrong instead of being dropped."""
+error that says what is wrong instead of being dropped, and the documents' texts left
+to the server (pygls's own copies, rebuilt line by line at each change, are not
+kept)."""
 
 from __future__ import annotations
 
 import logging
 
+from lsprotocol import types
 from pygls.exceptions import JsonRpcInvalidParams, JsonRpcRequestCancelled
-from pygls.protocol import LanguageServerProtocol
+from pygls.protocol import LanguageServerProtocol, lsp_method
 
 
 class _Answered:
@@ -42,6 +45,22 @@ class MissionProtocol(LanguageServerProtocol):
     def handle_message(self, message):
         if not isinstance(message, _Answered):
             super().handle_message(message)
+
+    def _to_server(self, method: str, params):
+        if (handler := self.fm.features.get(method)) is not None:
+            yield handler, (params,), None
+
+    @lsp_method(types.TEXT_DOCUMENT_DID_OPEN)
+    def lsp_text_document__did_open(self, params: types.DidOpenTextDocumentParams):
+        return self._to_server(types.TEXT_DOCUMENT_DID_OPEN, params)
+
+    @lsp_method(types.TEXT_DOCUMENT_DID_CHANGE)
+    def lsp_text_document__did_change(self, params: types.DidChangeTextDocumentParams):
+        return self._to_server(types.TEXT_DOCUMENT_DID_CHANGE, params)
+
+    @lsp_method(types.TEXT_DOCUMENT_DID_CLOSE)
+    def lsp_text_document__did_close(self, params: types.DidCloseTextDocumentParams):
+        return self._to_server(types.TEXT_DOCUMENT_DID_CLOSE, params)
 
 
 class Refusals(logging.Filter):

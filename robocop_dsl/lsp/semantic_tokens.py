@@ -10,7 +10,7 @@ from typing import Callable
 from lsprotocol import types
 
 from . import names
-from .navigation import BODY, CONTROLLER, JOINT, JOINT_GROUP, Resolver
+from .resolve import BODY, CONTROLLER, JOINT, JOINT_GROUP, Resolver
 from .project import Parsed, Project
 
 KINDS = {

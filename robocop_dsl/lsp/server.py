@@ -23,8 +23,9 @@ from pygls.lsp.server import LanguageServer
 
 from .. import __version__
 from . import (checking, completion, diagnostics, folding, formatting, hover, navigation,
-               renames, semantic_tokens, signatures, symbols)
+               semantic_tokens, signatures, symbols)
 from ..diagnostics import Span
+from .changes import Texts
 from .fixes import Fix
 from .positions import Encoding, path_to_uri, to_range, unknown_document, uri_to_path
 from .project import Project
@@ -44,6 +45,7 @@ class MissionServer(LanguageServer):
         self.checks = Checks(self.project.open, self.check, self.publish, self.open_importers,
                              self.check_failed)
         self.shut_down = False
+        self.texts = Texts(Encoding(None, self.project.source).units)
         self._requests = ThreadPoolExecutor(REQUEST_THREADS, thread_name_prefix="request")
         self._loop: asyncio.AbstractEventLoop | None = None
 
@@ -143,6 +145,7 @@ def build_server() -> MissionServer:
     @server.feature(types.INITIALIZED)
     def initialized(ls: MissionServer, params: types.InitializedParams):
         ls._loop = asyncio.get_running_loop()
+        ls.texts = Texts(ls.encoding().units)
         folders = ls.workspace.folders.values()
         project.roots = [uri_to_path(f.uri) for f in folders]
         if not project.roots and ls.workspace.root_path:
@@ -157,9 +160,11 @@ def build_server() -> MissionServer:
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
     def did_change(ls: MissionServer, params: types.DidChangeTextDocumentParams):
-        document = ls.workspace.get_text_document(params.text_document.uri)
         path = uri_to_path(params.text_document.uri)
-        project.open[path] = document.source
+        text = project.open.get(path, "")
+        for change in params.content_changes:
+            text = ls.texts.apply(text, change)
+        project.open[path] = text
         ls.checks.versions[path] = params.text_document.version
         ls.checks.request(path)
 
@@ -254,7 +259,7 @@ def build_server() -> MissionServer:
     async def prepare_rename(ls: MissionServer, params: types.PrepareRenameParams):
         def work():
             encoding, path, line, character = ls.place(params)
-            found = renames.prepare_rename(project, path, line + 1, character + 1)
+            found = navigation.prepare_rename(project, path, line + 1, character + 1)
             return encoding.range(path, found) if found is not None else None
         return await ls.answer(work)
 
@@ -262,7 +267,7 @@ def build_server() -> MissionServer:
     async def rename(ls: MissionServer, params: types.RenameParams):
         def work():
             encoding, path, line, character = ls.place(params)
-            found = renames.rename(project, path, line + 1, character + 1, params.new_name)
+            found = navigation.rename(project, path, line + 1, character + 1, params.new_name)
             return encoding.workspace_edit(found) if found is not None else None
         return await ls.answer(work)
 
