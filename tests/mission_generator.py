@@ -240,7 +240,8 @@ class MissionGenerator:
                 task = rng.choice(chosen)
                 condition = rng.choice([
                     f"t{task}.reached", f"elapsed > {rng.uniform(0.1, 1.0):.2f} s",
-                    f"t{task}.error < {rng.uniform(0.001, 0.1):.3f}",
+                    f"t{task}.{'position_error' if tasks[task][2] == 'body_pose' else 'error'}"
+                    f" < {rng.uniform(0.001, 0.1):.3f}",
                     f"distance({rng.choice(self.scene.tools)}, "
                     f"{rng.choice(self.scene.bodies)}) < {rng.uniform(0.01, 0.5):.2f} m",
                     self.value_condition()])

@@ -199,7 +199,12 @@ def expression(ctx: CheckContext, node, visible: dict[str, VarInfo]) -> Typed | 
         return variable(ctx, node.name, visible)
     if isinstance(node, ast.Vector):
         return _vector(ctx, node)
-    return measure(ctx, node)
+    if isinstance(node, (ast.Member, ast.Distance, ast.Elapsed, ast.Time, ast.Wrench)):
+        return measure(ctx, node)
+    ctx.error("wrong-value", "this value is not a number: it cannot be computed with",
+              node.span, "an expression combines numbers with units, vars, constants that "
+              "hold a number and measures")
+    return None
 
 
 def _binary(ctx: CheckContext, node: ast.Binary, visible) -> Typed | None:

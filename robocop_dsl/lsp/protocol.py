@@ -52,15 +52,15 @@ class MissionProtocol(LanguageServerProtocol):
 
     @lsp_method(types.TEXT_DOCUMENT_DID_OPEN)
     def lsp_text_document__did_open(self, params: types.DidOpenTextDocumentParams):
-        return self._to_server(types.TEXT_DOCUMENT_DID_OPEN, params)
+        yield from self._to_server(types.TEXT_DOCUMENT_DID_OPEN, params)
 
     @lsp_method(types.TEXT_DOCUMENT_DID_CHANGE)
     def lsp_text_document__did_change(self, params: types.DidChangeTextDocumentParams):
-        return self._to_server(types.TEXT_DOCUMENT_DID_CHANGE, params)
+        yield from self._to_server(types.TEXT_DOCUMENT_DID_CHANGE, params)
 
     @lsp_method(types.TEXT_DOCUMENT_DID_CLOSE)
     def lsp_text_document__did_close(self, params: types.DidCloseTextDocumentParams):
-        return self._to_server(types.TEXT_DOCUMENT_DID_CLOSE, params)
+        yield from self._to_server(types.TEXT_DOCUMENT_DID_CLOSE, params)
 
 
 class Refusals(logging.Filter):

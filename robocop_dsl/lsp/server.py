@@ -13,12 +13,16 @@ from __future__ import annotations
 import asyncio
 import logging
 import os
+import stat
+import sys
+import threading
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import Callable
+from typing import BinaryIO, Callable
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcInvalidParams
+from pygls.io_ import StdoutWriter, run_async
 from pygls.lsp.server import LanguageServer
 
 from .. import __version__
@@ -34,6 +38,8 @@ from .scheduler import Checks
 from .worlds import WorldStore
 
 REQUEST_THREADS = 2
+MAX_HEADER = 1 << 16
+"""The longest header line read [bytes]."""
 
 
 class MissionServer(LanguageServer):
@@ -48,6 +54,30 @@ class MissionServer(LanguageServer):
         self.texts = Texts(Encoding(None, self.project.source).units)
         self._requests = ThreadPoolExecutor(REQUEST_THREADS, thread_name_prefix="request")
         self._loop: asyncio.AbstractEventLoop | None = None
+
+    def start_io(self, stdin: BinaryIO | None = None, stdout: BinaryIO | None = None):
+        """Serve on ``stdin`` and ``stdout``. A pipe is read by the event loop itself
+        (pygls reads each line of a message on a worker thread; a burst of edits then
+        queues behind those hand-overs); anything else, pygls's way."""
+        stdin = stdin or sys.stdin.buffer
+        if not stat.S_ISFIFO(os.fstat(stdin.fileno()).st_mode):
+            super().start_io(stdin, stdout)
+            return
+        self._stop_event = threading.Event()
+        self.protocol.set_writer(StdoutWriter(stdout or sys.stdout.buffer))
+        try:
+            asyncio.run(self._serve(stdin))
+        except BrokenPipeError:
+            logging.getLogger(__name__).error("the editor closed the connection")
+        finally:
+            self.shutdown()
+
+    async def _serve(self, stdin: BinaryIO) -> None:
+        loop = asyncio.get_running_loop()
+        reader = asyncio.StreamReader(limit=MAX_HEADER, loop=loop)
+        await loop.connect_read_pipe(lambda: asyncio.StreamReaderProtocol(reader), stdin)
+        await run_async(stop_event=self._stop_event, reader=reader, protocol=self.protocol,
+                        error_handler=self.report_server_error)
 
     # ---- threads ----
     async def answer(self, work: Callable, *args):
