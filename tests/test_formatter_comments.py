@@ -55,13 +55,13 @@ def test_hash_in_string_is_no_comment():
     text = 'mission m "pick #3"  # third\nworld "w.yaml"\nstate s {\n  enter { log "#1" }\n}\n'
     assert [c.text for c in comments(text)] == ["# third"]
     assert formatted(text) == ('mission m "pick #3"  # third\n\nworld "w.yaml"\n\n'
-                               'state s {\n    enter {\n        log "#1"\n    }\n}\n')
+                               'state s {\n    enter { log "#1" }\n}\n')
 
 
 def test_blank_lines_around_comment_groups_kept():
     """A comment set apart by blank lines in a block stays set apart."""
     text = ("mission m\nworld \"w.yaml\"\nstate s {\n    enter { enable t }\n\n"
             "    # leave\n    when t.reached -> s\n}\n")
-    assert formatted(text) == ("mission m\n\nworld \"w.yaml\"\n\nstate s {\n    enter {\n"
-                               "        enable t\n    }\n\n    # leave\n"
+    assert formatted(text) == ("mission m\n\nworld \"w.yaml\"\n\nstate s {\n"
+                               "    enter { enable t }\n\n    # leave\n"
                                "    when t.reached -> s\n}\n")

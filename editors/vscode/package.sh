@@ -6,5 +6,5 @@ set -euo pipefail
 cd "$(dirname "$0")"
 npm install --no-audit --no-fund --loglevel=error
 npm test
-npx vsce package --allow-missing-repository --skip-license --out robocop-mission.vsix
+npm run package
 echo "built $(pwd)/robocop-mission.vsix"

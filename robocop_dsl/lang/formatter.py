@@ -1,35 +1,30 @@
-"""Print a mission syntax tree back as canonical text.
+"""Print a mission syntax tree back as text.
 
-Items and state parts keep their order; layout, spacing and number spelling are
-normalised. Parsing the output gives an equal tree. :func:`format_mission` prints a
-tree alone; :func:`format_source` also keeps the comments of the text it was parsed
-from: a comment on its own line stays before the statement that followed it, a comment
-after code stays at the end of that statement's line.
+Items and state parts keep their order; spacing and number spelling are normalised.
+Parsing the output gives an equal tree, and formatting it again gives it back.
+:func:`format_mission` prints a tree alone, in the canonical layout;
+:func:`format_source` prints a tree with the text it was parsed from, keeping its
+comments and the author's layout where it carries meaning (see :mod:`.layout`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
-import re
-from dataclasses import dataclass
+from contextvars import ContextVar
 
 from . import ast
-from .parser import mission_grammar
+from .layout import (BLANK, ROW_BREAK, Line, aligned, comments, joined, rows_split,
+                     vector_rows, with_author_blanks, with_comments)
+
+__all__ = ["comments", "format_mission", "format_source", "format_value", "item_lines"]
 
 INDENT = "    "
 _ONE_LINERS = (ast.WorldDecl, ast.ControllerDecl, ast.EventDecl, ast.StartDecl, ast.Import,
                ast.Let, ast.VarDecl)
-
-
-@dataclass(frozen=True)
-class Line:
-    """One output line and the source line it prints (0 for a blank line)."""
-
-    text: str
-    origin: int = 0
-
-
-BLANK = Line("")
+_SOURCE: ContextVar[list[str] | None] = ContextVar("source", default=None)
+"""The lines of the text :func:`format_source` prints (``None`` otherwise): a vector, a
+call's arguments and a condition's ``and``/``or`` keep the rows they were written in."""
 
 
 def format_number(value: float) -> str:
@@ -55,7 +50,7 @@ def format_value(value: ast.Value) -> str:
     if isinstance(value, ast.Quantity):
         return format_number(value.value) + _unit(value.unit)
     if isinstance(value, ast.Vector):
-        return "[" + ", ".join(map(_element, value.values)) + "]" + _unit(value.unit)
+        return _vector(value)
     if isinstance(value, ast.Reference):
         return value.name.text
     if isinstance(value, ast.Offset):
@@ -65,6 +60,21 @@ def format_value(value: ast.Value) -> str:
     return format_string(value.text)
 
 
+def _vector(vector: ast.Vector) -> str:
+    """``[a, b, c] unit``; rows as the author wrote them while :func:`format_source`
+    prints."""
+    elements = [_element(e) for e in vector.values]
+    source = _SOURCE.get()
+    span = vector.span
+    rows = vector_rows(source, (span.line, span.column), (span.end_line, span.end_column)) \
+        if source is not None and span.line > 0 else None
+    if rows is None or sum(rows) != len(elements):
+        return "[" + ", ".join(elements) + "]" + _unit(vector.unit)
+    cuts = [sum(rows[:i]) for i in range(len(rows) + 1)]
+    written = [", ".join(elements[a:b]) for a, b in zip(cuts, cuts[1:])]
+    return "[" + f",{ROW_BREAK}".join(written) + "]" + _unit(vector.unit)
+
+
 def _element(element: float | ast.NameElement) -> str:
     if isinstance(element, ast.NameElement):
         return ("-" if element.negative else "") + element.name.text
@@ -72,7 +82,19 @@ def _element(element: float | ast.NameElement) -> str:
 
 
 def _arguments(arguments: tuple[ast.Argument, ...]) -> str:
-    return ", ".join(map(_argument, arguments))
+    return _joined([_argument(a) for a in arguments], arguments, ", ")
+
+
+def _joined(texts: list[str], nodes, separator: str) -> str:
+    """``texts`` joined by ``separator``; while :func:`format_source` prints, a row
+    break after it where the author started the next node on a later line."""
+    if _SOURCE.get() is None:
+        return separator.join(texts)
+    out = texts[:1]
+    for text, previous, node in zip(texts[1:], nodes, nodes[1:]):
+        broken = 0 < previous.span.end_line < node.span.line
+        out.append((separator.rstrip() + ROW_BREAK if broken else separator) + text)
+    return "".join(out)
 
 
 def _argument(argument: ast.Argument) -> str:
@@ -130,9 +152,10 @@ def format_measure(measure: ast.Measure) -> str:
 def format_condition(condition: ast.Condition) -> str:
     """A condition with the parentheses its structure needs and no others."""
     if isinstance(condition, ast.Or):
-        return " or ".join(_operand(c, 1) for c in condition.operands)
+        return _joined([_operand(c, 1) for c in condition.operands], condition.operands, " or ")
     if isinstance(condition, ast.And):
-        return " and ".join(_operand(c, 2) for c in condition.operands)
+        return _joined([_operand(c, 2) for c in condition.operands], condition.operands,
+                       " and ")
     if isinstance(condition, ast.Not):
         return "not " + _operand(condition.operand, 2)
     if isinstance(condition, ast.Comparison):
@@ -167,27 +190,36 @@ def format_transition(transition: ast.Transition) -> str:
 
 
 def _action_lines(actions: tuple[ast.Action, ...]) -> list[Line]:
-    return [Line(format_action(a), a.span.line) for a in actions]
+    return [Line(format_action(a), a.span.line,
+                 "=" if isinstance(a, (ast.Assign, ast.SetVar)) else None) for a in actions]
 
 
 def _transition_lines(transition: ast.Transition) -> list[Line]:
     header = format_transition(transition)
     if not transition.actions:
-        return [Line(header, transition.span.line)]
-    return _block(header, transition.span, _action_lines(transition.actions))
+        return [Line(header, transition.span.line, "->")]
+    return _block(header, transition.span, _action_lines(transition.actions), "->",
+                  _one_line(transition))
 
 
-def _block(header: str, span, lines: list[Line]) -> list[Line]:
+def _one_line(node) -> bool:
+    """Whether a block of one action was written on one line."""
+    return len(node.actions) == 1 and node.span.line == node.span.end_line
+
+
+def _block(header: str, span, lines: list[Line], anchor: str | None = None,
+           joinable: bool = False) -> list[Line]:
     """``header {``, the indented ``lines`` and ``}``; ``span`` is the block's source."""
     if not lines:
-        return [Line(f"{header} {{}}", span.line)]
-    body = (Line(f"{INDENT}{line.text}", line.origin) if line.text else line for line in lines)
-    return [Line(f"{header} {{", span.line), *body, Line("}", span.end_line)]
+        return [Line(f"{header} {{}}", span.line, anchor)]
+    body = (dataclasses.replace(line, text=f"{INDENT}{line.text}") if line.text else line
+            for line in lines)
+    return [Line(f"{header} {{", span.line, anchor, joinable), *body, Line("}", span.end_line)]
 
 
 def _part_lines(part: ast.StatePart) -> list[Line]:
     if isinstance(part, ast.ActionBlock):
-        return _block(part.kind, part.span, _action_lines(part.actions))
+        return _block(part.kind, part.span, _action_lines(part.actions), None, _one_line(part))
     return _transition_lines(part)
 
 
@@ -272,7 +304,7 @@ def _described(keyword: str, name: ast.Name, description: str | None) -> str:
     return f"{keyword} {name.text}{described}"
 
 
-def _one_line(item: ast.Item) -> str | None:
+def _single(item: ast.Item) -> str | None:
     """The text of an item that always prints on one line, else ``None``."""
     if isinstance(item, ast.MissionHeader):
         return _described("mission", item.name, item.description)
@@ -298,9 +330,11 @@ def _one_line(item: ast.Item) -> str | None:
 
 def item_lines(item: ast.Item) -> list[Line]:
     """The lines of one item, each with the source line it prints."""
-    text = _one_line(item)
+    text = _single(item)
     if text is not None:
-        return [Line(text, item.span.line)]
+        valued = isinstance(item, ast.Let) or (isinstance(item, ast.VarDecl) and item.value)
+        anchor = "=" if valued else None
+        return [Line(text, item.span.line, anchor)]
     if isinstance(item, ast.BehaviorDecl):
         return _behavior_lines(item)
     if isinstance(item, ast.TaskDecl):
@@ -344,82 +378,14 @@ def format_mission(mission: ast.Mission) -> str:
     return "\n".join(line.text for line in _items_lines(mission.items)) + "\n"
 
 
-@dataclass(frozen=True)
-class Comment:
-    """A ``#`` comment: its 1-based line, its text, and whether code precedes it."""
-
-    line: int
-    text: str
-    after_code: bool
-
-
-def comments(text: str) -> list[Comment]:
-    """Every comment of mission ``text``, found with the grammar's own STRING and
-    COMMENT terminals (a ``#`` inside a string is no comment)."""
-    grammar = mission_grammar()
-    string = grammar.get_terminal("STRING").pattern.to_regexp()
-    comment = grammar.get_terminal("COMMENT").pattern.to_regexp()
-    scanner = re.compile(f"{string}|(?P<comment>{comment})")
-    found = []
-    for number, line in enumerate(text.splitlines(), 1):
-        match = next((m for m in scanner.finditer(line) if m.group("comment")), None)
-        if match is not None:
-            found.append(Comment(number, match.group("comment").rstrip(),
-                                 bool(line[:match.start()].strip())))
-    return found
-
-
 def format_source(mission: ast.Mission, text: str) -> str:
-    """``mission`` as canonical text with the comments of ``text``, the source it was
-    parsed from; ending with a newline."""
-    lines = _items_lines(mission.items)
-    source = text.splitlines()
-
-    def blank(number: int) -> bool:
-        return 0 < number <= len(source) and not source[number - 1].strip()
-
-    trailing: dict[int, list[str]] = {}
-    leading: dict[int, list[Comment]] = {}
-    for comment in comments(text):
-        owner = _owner(lines, comment.line) if comment.after_code else None
-        if owner is None:
-            index = next((i for i, line in enumerate(lines) if line.origin > comment.line),
-                         len(lines))
-            leading.setdefault(index, []).append(comment)
-        else:
-            trailing.setdefault(owner, []).append(comment.text)
-    out: list[str] = []
-    for index in range(len(lines) + 1):
-        group = leading.get(index, [])
-        if group:
-            indent = _indent(lines[index].text) if index < len(lines) else ""
-            if blank(group[0].line - 1) and out and out[-1] and not out[-1].endswith("{"):
-                out.append("")
-            for previous, comment in zip([None, *group], group):
-                if previous is not None and comment.line > previous.line + 1:
-                    out.append("")
-                out.append(indent + comment.text)
-            following = lines[index].text if index < len(lines) else ""
-            if blank(group[-1].line + 1) and following and following.strip() != "}":
-                out.append("")
-        if index < len(lines):
-            line = lines[index]
-            out.append("  ".join([line.text, *trailing.get(index, [])]))
-    return "\n".join(out) + "\n"
-
-
-def _owner(lines: list[Line], number: int) -> int | None:
-    """The output line that a comment after code on source line ``number`` ends: the
-    first printed from the nearest source line at or before it."""
-    origins = [line.origin for line in lines if 0 < line.origin <= number]
-    if not origins:
-        return None
-    nearest = max(origins)
-    return next(i for i, line in enumerate(lines) if line.origin == nearest)
-
-
-def _indent(text: str) -> str:
-    """The indentation of a comment placed before the output line ``text``: that
-    line's own, one level deeper before a closing brace."""
-    indent = text[:len(text) - len(text.lstrip())]
-    return indent + INDENT if text.strip() == "}" else indent
+    """``mission`` printed with the comments and the author's layout of ``text``, the
+    source it was parsed from; ending with a newline."""
+    source = text.split("\n")
+    written = _SOURCE.set(source)
+    try:
+        lines = _items_lines(mission.items)
+    finally:
+        _SOURCE.reset(written)
+    lines = rows_split(aligned(joined(with_author_blanks(lines, source)), source), INDENT)
+    return "\n".join(with_comments(lines, source, comments(text), INDENT)) + "\n"

@@ -319,6 +319,14 @@ def _hide(match: re.Match) -> str:
     return ('"' if match.group("string") else " ") * len(match.group())
 
 
+def comment_start(line: str) -> int | None:
+    """Where the comment of ``line`` starts (a ``#`` in a string starts none)."""
+    if "#" not in line:
+        return None
+    return next((m.start() for m in _strings_and_comments().finditer(line)
+                 if not m.group("string")), None)
+
+
 def code_of(line: str) -> str:
     """``line`` with the characters of its strings replaced by ``"`` and its comment by
     spaces: braces in them are text, and columns stay where they are."""

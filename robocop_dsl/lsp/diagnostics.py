@@ -14,7 +14,7 @@ from lsprotocol import types
 from ..diagnostics import Diagnostic, Span
 from ..lang import ast
 from .fixes import Fix, fixes
-from .positions import location, path_to_uri, to_range
+from .positions import Encoding, location, path_to_uri, to_range, uri_to_path
 from .project import Parsed, Project
 
 SOURCE = "robocop-mission"
@@ -52,12 +52,28 @@ def _carrier(project: Project, parsed: Parsed, file: Path) -> Span | None:
 
 
 def fix_data(found: list[Fix]) -> list[dict] | None:
-    """Fixes as a diagnostic's ``data``: ranges in characters, turned into the client's
-    encoding when a code action applies them."""
+    """Fixes as a diagnostic's ``data`` (which the client sends back with a code action
+    request): spans in characters, turned into the client's encoding by
+    :func:`code_actions`."""
     return [{"title": f.title, "uri": path_to_uri(f.path), "line": f.span.line,
              "column": f.span.column, "end_line": f.span.end_line,
              "end_column": f.span.end_column, "text": f.text, "preferred": f.preferred}
             for f in found] or None
+
+
+def code_actions(found: list[types.Diagnostic], encoding: Encoding) -> list[types.CodeAction]:
+    """The quick fixes that the diagnostics ``found`` carry in their ``data``."""
+    actions = []
+    for diagnostic in found:
+        for fix in diagnostic.data or []:
+            span = Span(fix["line"], fix["column"], fix["end_line"], fix["end_column"])
+            edit = encoding.edit(uri_to_path(fix["uri"]), types.TextEdit(to_range(span),
+                                                                         fix["text"]))
+            actions.append(types.CodeAction(
+                fix["title"], kind=types.CodeActionKind.QuickFix, diagnostics=[diagnostic],
+                is_preferred=fix["preferred"] or None,
+                edit=types.WorkspaceEdit(changes={fix["uri"]: [edit]})))
+    return actions
 
 
 def convert(project: Project, parsed: Parsed, diagnostic: Diagnostic) -> types.Diagnostic:

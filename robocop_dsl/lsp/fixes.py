@@ -4,7 +4,8 @@ A "did you mean 'X'?" hint replaces the name its message quotes, inside the
 diagnostic's span, with X (one fix per name offered: ``'a', 'b' or 'c'``); a missing
 ``->``, ``=``, ``:``, ``)`` or ``]`` is inserted where it was expected, a ``:`` written
 for ``=`` (or the reverse) is replaced, two statements on one line are split, and a
-block left open is closed where its indentation shows it ends.
+block left open is closed where its indentation shows it ends (a ``}`` on a line of
+its own, indented like the line of its ``{``).
 """
 
 from __future__ import annotations
@@ -45,9 +46,20 @@ def fixes(diagnostic: Diagnostic, path: Path, source: SourceFile | None) -> list
         return _inserted(diagnostic, path, source)
     if diagnostic.code == "wrong-token":
         wrong = _WRONG.match(diagnostic.message)
-        return [Fix(f"write '{wrong.group(1)}'", path, span, wrong.group(1), True)] \
-            if wrong else []
+        return [_replaced(wrong.group(1), path, source, span)] if wrong else []
     return []
+
+
+def _replaced(token: str, path: Path, source: SourceFile, span: Span) -> Fix:
+    """``token`` written where the span's token is, spaced as the language is written:
+    ``NAME = VALUE``, ``NAME: TYPE``."""
+    before = source.line(span.line)[:span.column - 1]
+    if token == ":":
+        start = len(before.rstrip()) + 1
+        return Fix("write ':'", path, Span(span.line, start, span.line, span.end_column), ":",
+                   True)
+    return Fix(f"write '{token}'", path, span, ("" if before.endswith(" ") else " ") + token,
+               True)
 
 
 def _suggested(diagnostic: Diagnostic, path: Path, source: SourceFile) -> list[Fix]:
@@ -73,7 +85,9 @@ def _inserted(diagnostic: Diagnostic, path: Path, source: SourceFile) -> list[Fi
         if closing is None:
             return []
         end = len(code_of(source.line(closing.at)).rstrip()) + 1
-        return [Fix("close the block", path, Span(closing.at, end, closing.at, end), "}",
+        opening = source.line(closing.line)
+        brace = "\n" + opening[:len(opening) - len(opening.lstrip())] + "}"
+        return [Fix("close the block", path, Span(closing.at, end, closing.at, end), brace,
                     True)]
     if diagnostic.message.startswith(_NEW_LINE):
         indent = line[:len(line) - len(line.lstrip())]

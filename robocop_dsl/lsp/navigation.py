@@ -25,6 +25,15 @@ from .positions import location, path_to_uri, to_range
 from .project import Parsed, Project
 from .resolve import LOCAL, WORLD_KINDS, Resolver, Target, top_level
 
+RENAMABLE = (names.TASK, names.CONSTRAINT, names.STATE, names.FINAL, names.BEHAVIOR,
+             names.CONSTANT, names.EVENT, names.PARAM, names.REGION, names.VAR)
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+_SHARED_NAMES = (names.TASK, names.CONSTRAINT, names.EVENT, names.CONSTANT)
+_TOP_CLASHES = {**{kind: _SHARED_NAMES for kind in _SHARED_NAMES},
+                names.BEHAVIOR: (names.BEHAVIOR,),
+                names.VAR: (names.TASK, names.CONSTRAINT, names.CONSTANT)}
+
+
 def target_at(project: Project, path: Path, line: int, column: int):
     """The parsed file, the name at a 1-based position and what it resolves to."""
     parsed = project.parsed(path)
@@ -107,16 +116,6 @@ def highlights(project: Project, path: Path, line: int, column: int
         for _, o in _places(project, target, [path])]
 
 
-RENAMABLE = (names.TASK, names.CONSTRAINT, names.STATE, names.FINAL, names.BEHAVIOR,
-             names.CONSTANT, names.EVENT, names.PARAM, names.REGION, names.VAR)
-_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
-_SHARED_NAMES = (names.TASK, names.CONSTRAINT, names.EVENT, names.CONSTANT)
-_LOCAL = (names.STATE, names.FINAL, names.REGION, names.PARAM, names.VAR)
-_TOP_CLASHES = {**{kind: _SHARED_NAMES for kind in _SHARED_NAMES},
-                names.BEHAVIOR: (names.BEHAVIOR,),
-                names.VAR: (names.TASK, names.CONSTRAINT, names.CONSTANT)}
-
-
 @functools.cache
 def keywords() -> frozenset[str]:
     """The words the parser may read as keywords: no name may be one of them."""
@@ -169,7 +168,7 @@ def _taken(project: Project, target: Target, new_name: str, paths) -> str | None
                 return f"the {kind} declared at {other.path.name}:{other.span.line}"
         declared = next((o for o in parsed.occurrences if o.declares
                          and o.name.span == target.span), None) \
-            if target.kind in _LOCAL and path == target.path else None
+            if target.kind in LOCAL and path == target.path else None
         for other in parsed.occurrences:
             if not other.declares or other.text != new_name:
                 continue

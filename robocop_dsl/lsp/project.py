@@ -90,8 +90,13 @@ class Project:
         self.roots: list[Path] = []
         self._parsed: dict[Path, Parsed] = {}
         self._pieces: dict[Path, PieceCache] = defaultdict(PieceCache)
-        self._locks: dict[Path, threading.Lock] = defaultdict(threading.Lock)
+        self._locks: dict[Path, threading.Lock] = {}
+        self._locking = threading.Lock()
         self._sources: dict[Path, SourceFile] = {}
+
+    def _lock(self, path: Path) -> threading.Lock:
+        with self._locking:
+            return self._locks.setdefault(path, threading.Lock())
 
     def text(self, path: Path) -> str | None:
         if path in self.open:
@@ -109,7 +114,7 @@ class Project:
     def parse(self, path: Path, text: str) -> Parsed:
         """The parse of ``text`` as the content of ``path``: only the pieces that
         changed since the last parse of ``path`` are parsed again."""
-        with self._locks[path]:
+        with self._lock(path):
             known = self._parsed.get(path)
             if known is None or known.text != text:
                 with COLLECTOR.paused():
@@ -119,7 +124,7 @@ class Project:
 
     def forget(self, path: Path) -> None:
         """Drop what is kept of a document that was closed."""
-        with self._locks[path]:
+        with self._lock(path):
             self._parsed.pop(path, None)
             self._pieces.pop(path, None)
             self._sources.pop(path, None)

@@ -28,11 +28,9 @@ from pygls.lsp.server import LanguageServer
 from .. import __version__
 from . import (checking, completion, diagnostics, folding, formatting, hover, navigation,
                semantic_tokens, signatures, symbols)
-from ..diagnostics import Span
 from .changes import Texts
-from .fixes import Fix
-from .positions import Encoding, path_to_uri, to_range, unknown_document, uri_to_path
-from .project import Project
+from .positions import Encoding, path_to_uri, unknown_document, uri_to_path
+from .project import COLLECTOR, Project
 from .protocol import MissionProtocol, Refusals
 from .scheduler import Checks
 from .worlds import WorldStore
@@ -81,8 +79,10 @@ class MissionServer(LanguageServer):
 
     # ---- threads ----
     async def answer(self, work: Callable, *args):
-        """``work(*args)`` worked out on a request thread."""
-        return await asyncio.get_running_loop().run_in_executor(self._requests, work, *args)
+        """``work(*args)`` worked out on a request thread, cyclic garbage collection
+        paused meanwhile (see :data:`~.project.COLLECTOR`)."""
+        return await asyncio.get_running_loop().run_in_executor(self._requests, _paused,
+                                                                work, *args)
 
     def on_loop(self, call: Callable, *args) -> None:
         """``call(*args)`` on the event loop's thread (where messages are sent)."""
@@ -140,22 +140,9 @@ class MissionServer(LanguageServer):
             self.checks.request(path, 0, edited=False)
 
 
-def _code_actions(ls: MissionServer, params: types.CodeActionParams) -> list[types.CodeAction]:
-    """The quick fixes the diagnostics of the request carry."""
-    encoding, actions = ls.encoding(), []
-    for diagnostic in params.context.diagnostics:
-        for data in diagnostic.data or []:
-            fix = Fix(data["title"], uri_to_path(data["uri"]), _span(data), data["text"])
-            edit = types.TextEdit(to_range(fix.span), fix.text)
-            actions.append(types.CodeAction(
-                fix.title, kind=types.CodeActionKind.QuickFix, diagnostics=[diagnostic],
-                is_preferred=data["preferred"] or None,
-                edit=types.WorkspaceEdit(changes={data["uri"]: [encoding.edit(fix.path, edit)]})))
-    return actions
-
-
-def _span(data: dict) -> Span:
-    return Span(data["line"], data["column"], data["end_line"], data["end_column"])
+def _paused(work: Callable, *args):
+    with COLLECTOR.paused():
+        return work(*args)
 
 
 def _symbols(encoding: Encoding, path: Path, found: list[types.DocumentSymbol]):
@@ -213,6 +200,7 @@ def build_server() -> MissionServer:
         project.forget(path)
         ls.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[]))
+        ls.recheck_open()
 
     @server.feature(types.SHUTDOWN)
     def shutdown(ls: MissionServer, params):
@@ -304,7 +292,9 @@ def build_server() -> MissionServer:
     @server.feature(types.TEXT_DOCUMENT_CODE_ACTION,
                     types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]))
     async def code_action(ls: MissionServer, params: types.CodeActionParams):
-        return await ls.answer(_code_actions, ls, params)
+        def work():
+            return diagnostics.code_actions(params.context.diagnostics, ls.encoding())
+        return await ls.answer(work)
 
     @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
     async def outline(ls: MissionServer, params: types.DocumentSymbolParams):

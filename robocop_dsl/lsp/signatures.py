@@ -30,7 +30,7 @@ _TARGET_POSE = (("position", "[x, y, z] with a length unit: where the body goes"
 _SUBJECTS = {BODY_SUBJECT: (("body", "the body it drives"),),
              COLLISION_SETS: (("first", "a body or a joint group"),
                               ("second", "a body or a joint group"))}
-_DECLARED = re.compile(r"\b(task|constraint)\s+\w+\s*:\s*(\w+)\s*$")
+_DECLARED = re.compile(r"\b(task|constraint)\s+\w+\s*:\s*$")
 
 
 def _statement(lines: list[str], line: int, character: int) -> str:

@@ -3,6 +3,7 @@ of its files (the YAML files it includes, the URDFs it names) has changed on dis
 
 from __future__ import annotations
 
+import threading
 from pathlib import Path
 from typing import Callable
 
@@ -34,17 +35,22 @@ def _stamp(files: set[Path]) -> tuple:
 class WorldStore:
     """Loaded worlds by resolved path, checked against their files' times on each use;
     ``on_load`` is told of every (re)load. Accepted wherever the checker takes a
-    :class:`~robocop_dsl.compile.WorldCache`."""
+    :class:`~robocop_dsl.compile.WorldCache`. The checking thread and request threads
+    share it: a world is loaded by one of them at a time."""
 
     def __init__(self, on_load: Callable[[Path], None] | None = None):
         self.on_load = on_load
         self._caches: dict[Path, WorldCache] = {}
         self._descriptions: dict[Path, WorldDescription] = {}
         self._stamps: dict[Path, tuple] = {}
+        self._lock = threading.Lock()
 
     def load(self, path: Path):
         """The world at ``path`` and the diagnostics of loading it."""
-        path = Path(path)
+        with self._lock:
+            return self._load(Path(path))
+
+    def _load(self, path: Path):
         description = self._descriptions.get(path)
         if description is None or _stamp(_files(description)) != self._stamps[path]:
             description = read_description(path)

@@ -1,0 +1,66 @@
+// How the extension finds the language server (server.js), with programs made for the
+// test in a temporary folder, and the command line it builds.
+const test = require("node:test");
+const assert = require("node:assert");
+const fs = require("fs");
+const os = require("os");
+const path = require("path");
+const { findServer, commandLine } = require("../server");
+
+const folder = fs.mkdtempSync(path.join(os.tmpdir(), "robocop-mission-"));
+const program = path.join(folder, "robocop-mission");
+const python = path.join(folder, "python");
+for (const file of [program, python]) fs.writeFileSync(file, "#!/bin/sh\n", { mode: 0o755 });
+const empty = { PATH: path.join(folder, "missing") };
+const withProgram = { PATH: folder };
+const installed = () => true;
+const missing = () => false;
+
+test.after(() => fs.rmSync(folder, { recursive: true, force: true }));
+
+test("the setting serverPath comes first", () => {
+  const found = findServer({ serverPath: program, pythonPath: python, interpreter: python,
+    env: empty, probe: installed });
+  assert.deepStrictEqual(commandLine(found), [program, "lsp", "--stdio"]);
+});
+
+test("then the setting pythonPath", () => {
+  const found = findServer({ pythonPath: python, interpreter: "/other/python", env: empty });
+  assert.deepStrictEqual(commandLine(found), [python, "-m", "robocop_dsl", "lsp", "--stdio"]);
+});
+
+test("then the Python extension's interpreter when it has the server", () => {
+  const found = findServer({ interpreter: python, env: withProgram, probe: installed });
+  assert.deepStrictEqual(commandLine(found), [python, "-m", "robocop_dsl", "lsp", "--stdio"]);
+});
+
+test("then robocop-mission on PATH", () => {
+  const found = findServer({ interpreter: python, env: withProgram, probe: missing });
+  assert.deepStrictEqual(commandLine(found), [program, "lsp", "--stdio"]);
+  assert.match(found.tried.join("\n"), /robocop_dsl is not installed in it/);
+});
+
+test("nothing found: what was tried and the install command", () => {
+  const found = findServer({ interpreter: python, env: empty, probe: missing });
+  assert.strictEqual(found.command, null);
+  assert.deepStrictEqual(found.tried, [
+    "the setting robocopMission.serverPath (not set)",
+    "the setting robocopMission.pythonPath (not set)",
+    `the Python interpreter ${python} (robocop_dsl is not installed in it)`,
+    "robocop-mission on PATH (not found)",
+  ]);
+  assert.strictEqual(found.install, `${python} -m pip install robocop-mission`);
+});
+
+test("a setting naming a missing program is reported, not passed over", () => {
+  const found = findServer({ serverPath: path.join(folder, "nope"), env: withProgram });
+  assert.strictEqual(found.command, null);
+  assert.match(found.problem, /robocopMission.serverPath names .*nope, which is not a program/);
+});
+
+test("the client appends --stdio for a stdio executable, as commandLine does", () => {
+  const client = fs.readFileSync(
+    require.resolve("vscode-languageclient/lib/node/main.js"), "utf8");
+  const executable = client.slice(client.indexOf("Executable.is(json) && json.command"));
+  assert.match(executable.slice(0, 600), /transport === TransportKind\.stdio\) \{\s*args\.push\('--stdio'\)/);
+});

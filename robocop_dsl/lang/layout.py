@@ -1,0 +1,271 @@
+"""The author's layout that formatting a mission's text keeps, where it carries meaning.
+
+The formatter prints :class:`Line` objects, each with the source line it prints. Given
+the source, the passes here keep: the blank lines the author put between statements
+(one at most); a block of one action written on one line (``enter { enable arms }``),
+when it fits in :data:`WIDTH` columns; the rows of a vector written over several lines,
+each row after the first under the first element; the column of ``=``, ``->`` or a
+one-line block's ``{`` that adjacent statements share, and that of trailing comments
+on adjacent lines; and every comment, where its reader expects it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+from .syntax_errors import code_of, comment_start
+
+WIDTH = 100
+"""The widest a block of one action may be kept on one line [columns]."""
+ROW_BREAK = "\n"
+"""Between the rows of a vector in a printed line, until they are made lines."""
+_ANCHORS = {"=": " = ", "->": " -> ", "{": " {"}
+
+
+@dataclass(frozen=True)
+class Line:
+    """One output line and the source line it prints (0 for a blank line the formatter
+    adds). ``anchor`` is the separator adjacent lines may align (``=``, ``->``, ``{``);
+    ``joinable`` marks the header of a block of one action that was written on one
+    line; ``row`` a vector's row after the first."""
+
+    text: str
+    origin: int = 0
+    anchor: str | None = None
+    joinable: bool = False
+    row: bool = False
+
+
+BLANK = Line("")
+
+
+@dataclass(frozen=True)
+class Comment:
+    """A ``#`` comment: its 1-based line, its text, whether code precedes it and the
+    0-based column where it starts."""
+
+    line: int
+    text: str
+    after_code: bool
+    column: int = 0
+
+
+def comments(text: str) -> list[Comment]:
+    """Every comment of mission ``text`` (a ``#`` inside a string is no comment)."""
+    found = []
+    for number, line in enumerate(text.split("\n"), 1):
+        start = comment_start(line)
+        if start is not None:
+            found.append(Comment(number, line[start:].rstrip(), bool(line[:start].strip()),
+                                 start))
+    return found
+
+
+def _blank(source: list[str], number: int) -> bool:
+    return 0 < number <= len(source) and not source[number - 1].strip()
+
+
+def vector_rows(source: list[str], start: tuple[int, int], end: tuple[int, int]
+                ) -> tuple[int, ...] | None:
+    """How many elements each row of a vector written from ``start`` to ``end`` (1-based
+    line and column, end exclusive) holds, when it spans several lines."""
+    if start[0] == end[0]:
+        return None
+    written = [source[start[0] - 1][start[1] - 1:]] + source[start[0]:end[0] - 1] \
+        + [source[end[0] - 1][:end[1] - 1]]
+    rows = []
+    for row in written:
+        inside = code_of(row).split("]")[0].lstrip("[ \t")
+        count = sum(1 for piece in inside.split(",") if piece.strip())
+        if count:
+            rows.append(count)
+    return tuple(rows) if len(rows) > 1 else None
+
+
+def with_author_blanks(lines: list[Line], source: list[str]) -> list[Line]:
+    """``lines`` with a blank line between two statements where the source has one."""
+    out: list[Line] = []
+    previous = 0
+    for line in lines:
+        if previous and line.origin > previous + 1:
+            out += [Line("", n) for n in range(previous + 1, line.origin)
+                    if _blank(source, n) and not _blank(source, n - 1)]
+        out.append(line)
+        previous = line.origin or previous
+    return out
+
+
+def joined(lines: list[Line]) -> list[Line]:
+    """A block of one action written on one line, on one line again when it fits."""
+    out: list[Line] = []
+    index = 0
+    while index < len(lines):
+        line = lines[index]
+        if line.joinable and index + 2 < len(lines) and lines[index + 2].text.strip() == "}":
+            text = f"{line.text} {lines[index + 1].text.strip()} }}"
+            if len(text) <= WIDTH and ROW_BREAK not in text:
+                out.append(dataclasses.replace(line, text=text, joinable=False,
+                                               anchor=line.anchor or "{"))
+                index += 3
+                continue
+        out.append(line)
+        index += 1
+    return out
+
+
+def _anchor_column(text: str, anchor: str) -> int | None:
+    """Where the separator ``anchor`` starts in ``text``, outside strings."""
+    found = code_of(text).find(_ANCHORS[anchor])
+    return None if found < 0 else found + 1
+
+
+def aligned(lines: list[Line], source: list[str]) -> list[Line]:
+    """Adjacent statements whose separator the author aligned, aligned again: at the
+    author's column, or further when a statement now needs it."""
+    out = list(lines)
+    index = 0
+    while index < len(out):
+        group = _group(out, index, source)
+        if len(group) > 1:
+            anchor = out[index].anchor
+            wanted = _anchor_column(source[out[index].origin - 1], anchor)
+            needed = max(len(out[i].text[:_anchor_column(out[i].text, anchor)].rstrip()) + 1
+                         for i in group)
+            for i in group:
+                text = out[i].text
+                at = _anchor_column(text, anchor)
+                column = max(wanted, needed)
+                out[i] = dataclasses.replace(
+                    out[i], text=text[:at].rstrip().ljust(column) + text[at:])
+        index += max(len(group), 1)
+    return out
+
+
+def _group(lines: list[Line], start: int, source: list[str]) -> list[int]:
+    """The lines from ``start`` on whose separator was at one column in adjacent source
+    lines (nothing but the first statement's own lines between them)."""
+    first = lines[start]
+    if first.anchor is None or not first.origin:
+        return []
+    column = _anchor_column(source[first.origin - 1], first.anchor)
+    group = [start]
+    for index in range(start + 1, len(lines)):
+        line, previous = lines[index], lines[index - 1]
+        if (line.anchor != first.anchor or not line.origin or column is None
+                or _anchor_column(source[line.origin - 1], line.anchor) != column
+                or any(not code_of(source[n - 1]).strip()
+                       for n in range(previous.origin + 1, line.origin))):
+            break
+        group.append(index)
+    return group
+
+
+def rows_split(lines: list[Line], indent: str) -> list[Line]:
+    """Each row of a printed line on a line of its own: after the first, under the
+    first thing inside the innermost bracket still open, else under the condition of a
+    ``when`` or one ``indent`` deeper."""
+    out: list[Line] = []
+    for line in lines:
+        if ROW_BREAK not in line.text:
+            out.append(line)
+            continue
+        first, *rest = line.text.split(ROW_BREAK)
+        rows = [first]
+        for row in rest:
+            rows.append(" " * _continuation(rows, indent) + row.lstrip())
+        out.append(dataclasses.replace(line, text=first))
+        out += [Line(text, line.origin + number, row=True)
+                for number, text in enumerate(rows[1:], 1)]
+    return out
+
+
+def _continuation(rows: list[str], indent: str) -> int:
+    """The column where the row after ``rows`` starts."""
+    opened: list[int] = []
+    for row in rows:
+        for index, char in enumerate(code_of(row)):
+            if char in "([":
+                opened.append(index)
+            elif char in ")]" and opened:
+                opened.pop()
+    if opened:
+        return opened[-1] + 1
+    first = rows[0]
+    start = len(first) - len(first.lstrip())
+    return start + (len("when ") if first.lstrip().startswith("when ") else len(indent))
+
+
+def with_comments(lines: list[Line], source: list[str], found: list[Comment],
+                  indent: str) -> list[str]:
+    """The text lines: ``lines`` with the comments ``found`` in the source. A comment on
+    its own line goes before the statement that followed it (indented like it, one
+    level deeper before a closing brace); one after code ends the line printed from
+    that code, aligned with those of adjacent lines that the author aligned."""
+    trailing: dict[int, list[Comment]] = {}
+    leading: dict[int, list[Comment]] = {}
+    for comment in found:
+        owner = _owner(lines, comment.line) if comment.after_code else None
+        if owner is None:
+            index = next((i for i, line in enumerate(lines) if line.origin > comment.line),
+                         len(lines))
+            leading.setdefault(index, []).append(comment)
+        else:
+            trailing.setdefault(owner, []).append(comment)
+    columns = _comment_columns(lines, trailing, source)
+    out: list[str] = []
+    for index in range(len(lines) + 1):
+        following = lines[index].text if index < len(lines) else ""
+        before = following[:len(following) - len(following.lstrip())]
+        before += indent if following.strip() == "}" else ""
+        out += [before + comment.text for comment in leading.get(index, [])]
+        if index < len(lines):
+            text = lines[index].text
+            for comment in trailing.get(index, []):
+                text = text.ljust(columns.get(comment.line, len(text) + 2)) + comment.text
+            out.append(text)
+    return _tidy(out)
+
+
+def _owner(lines: list[Line], number: int) -> int | None:
+    """The output line that a comment after code on source line ``number`` ends: the
+    first printed from the nearest source line at or before it."""
+    origins = [line.origin for line in lines if 0 < line.origin <= number]
+    if not origins:
+        return None
+    nearest = max(origins)
+    return next(i for i, line in enumerate(lines) if line.origin == nearest)
+
+
+def _comment_columns(lines: list[Line], trailing: dict[int, list[Comment]],
+                     source: list[str]) -> dict[int, int]:
+    """The column of each trailing comment (by source line) that the author aligned
+    with another of the same run of statements (no blank or comment line between):
+    theirs, or further when the code now needs it."""
+    owners = sorted((c.line, index, c) for index, group in trailing.items() for c in group)
+    columns: dict[int, int] = {}
+    group: list[tuple[int, int, Comment]] = []
+    for owner in [*owners, None]:
+        if owner is not None and group and owner[2].column == group[-1][2].column and all(
+                code_of(source[n - 1]).strip() for n in range(group[-1][0] + 1, owner[0])):
+            group.append(owner)
+            continue
+        if len(group) > 1:
+            needed = max(len(lines[index].text) + 2 for _, index, _ in group)
+            column = max(group[0][2].column, needed)
+            columns.update({number: column for number, _, _ in group})
+        group = [owner]
+    return columns
+
+
+def _tidy(out: list[str]) -> list[str]:
+    """At most one blank line in a row, none at the ends, after a '{' or before a '}'."""
+    tidy: list[str] = []
+    for index, text in enumerate(out):
+        if not text.strip():
+            following = next((t for t in out[index + 1:] if t.strip()), None)
+            if (not tidy or not tidy[-1].strip() or code_of(tidy[-1]).rstrip().endswith("{")
+                    or following is None or following.strip().startswith("}")):
+                continue
+        tidy.append(text)
+    return tidy
