@@ -16,10 +16,12 @@ import os
 import sys
 
 from .. import __version__
-from . import check_cmd, graph_cmd, lsp_cmd, plot_cmd, run_cmd, sweep_cmd, world_cmd
+from . import (check_cmd, export_cmd, graph_cmd, lsp_cmd, plot_cmd, run_cmd, sweep_cmd,
+               world_cmd)
 
 BROKEN_PIPE = 128 + 13   # exit code of a process whose output pipe closed (SIGPIPE)
-COMMANDS = (check_cmd, run_cmd, graph_cmd, world_cmd, plot_cmd, sweep_cmd, lsp_cmd)
+COMMANDS = (check_cmd, run_cmd, graph_cmd, world_cmd, plot_cmd, export_cmd, sweep_cmd,
+            lsp_cmd)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -1,9 +1,12 @@
 """``robocop-mission run FILE``: run a mission headless (default) or in real time,
-optionally shown in Meshcat (``--viewer``) and recorded as an HTML replay (``--record``).
+optionally shown in Meshcat (``--viewer``), recorded as an HTML replay (``--record``),
+logged (``--log DIR``: events, time series and ``run.mcap``) and served live to
+Foxglove (``--foxglove [HOST:PORT]``).
 
 Exit codes: 0 success outcome, 1 failure outcome (or ``--duration`` reached first),
-2 invalid mission (or viewer options), 3 run-time fault (or no Meshcat server),
-130 interrupted (SIGINT, Ctrl-C), 143 terminated (SIGTERM). A signal, even during
+2 invalid mission (or viewer or Foxglove options), 3 run-time fault (or no Meshcat
+server, or a Foxglove address that cannot be served), 130 interrupted (SIGINT,
+Ctrl-C), 143 terminated (SIGTERM). A signal, even during
 start-up, ends the run the way a final state does: the robot decelerates and holds,
 the log is complete; a second signal changes nothing.
 """
@@ -11,12 +14,15 @@ the log is complete; a second signal changes nothing.
 from __future__ import annotations
 
 import argparse
+import gc
 import signal
 import sys
 import threading
 
 from ..diagnostics import DiagnosticError, render_all
 from .events import scheduled_event
+
+DEFAULT_ADDRESS = "127.0.0.1:8765"     # of --foxglove
 
 EXIT_CODES = {"success": 0, "failure": 1, "stopped": 1, "fault": 3, "interrupted": 130}
 VIEWER_SYNC = 5.0   # [s] at most to show the last cycle before waiting or exiting
@@ -30,7 +36,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("file", help="the .mission file")
     parser.add_argument("--realtime", action=argparse.BooleanOptionalAction, default=None,
                         help="sleep to the control period and report overruns "
-                             "(default: on with --viewer, off otherwise)")
+                             "(default: on with --viewer or --foxglove, off otherwise)")
     parser.add_argument("--viewer", action="store_true",
                         help="show the run in Meshcat: start a server on 127.0.0.1 and "
                              "print the page's URL")
@@ -50,7 +56,13 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--world", metavar="WORLD.yaml",
                         help="run on this world instead of the one the mission names (a "
                              "variant: the same names, another driver, physics...)")
-    parser.add_argument("--log", metavar="DIR", help="write events and time series to DIR")
+    parser.add_argument("--log", metavar="DIR",
+                        help="write events, time series and run.mcap (ROS 2 messages) to DIR")
+    parser.add_argument("--foxglove", nargs="?", const=DEFAULT_ADDRESS, metavar="HOST:PORT",
+                        help="serve the run live to Foxglove over its WebSocket protocol "
+                             f"(default {DEFAULT_ADDRESS})")
+    parser.add_argument("--allow-remote", action="store_true",
+                        help="let --foxglove serve an address other than the loopback's")
     parser.add_argument("--campaign", metavar="CAMPAIGN.yaml",
                         help="run one job of this campaign: its world variant, controller "
                              "settings and sampled conditions (with --job)")
@@ -67,11 +79,24 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     with StopSignals() as signals:
-        return _run(args, signals)
+        log = None
+        if args.log:
+            from ..ecosystem.log_process import LogProcess
+
+            try:
+                log = LogProcess(args.log)      # starts at once: its imports overlap ours
+            except OSError as error:
+                print(f"robocop-mission run: error: cannot write the log in {args.log}: "
+                      f"{error.strerror}", file=sys.stderr)
+                return 2
+        try:
+            return _run(args, signals, log)
+        finally:
+            if log is not None:
+                log.close()
 
 
-def _run(args, signals) -> int:
-    from ..runtime import RunLogger
+def _run(args, signals, log) -> int:
     from ..runtime.summary import SummaryWatch
     from .event_schedule import EventSchedule
     from .events import unknown_events
@@ -86,7 +111,16 @@ def _run(args, signals) -> int:
         return 2
     watched = bool(args.viewer or args.viewer_url)
     if args.realtime is None:
-        args.realtime = watched
+        args.realtime = watched or args.foxglove is not None
+    address = None
+    if args.foxglove is not None:
+        from ..ecosystem import FoxgloveAddressError, parse_address
+
+        try:
+            address = parse_address(args.foxglove, args.allow_remote)
+        except FoxgloveAddressError as error:
+            print(f"robocop-mission run: error: {error}", file=sys.stderr)
+            return 2
     try:
         mission, runner, duration = _prepare(args)
     except DiagnosticError as error:
@@ -100,8 +134,16 @@ def _run(args, signals) -> int:
         runner.add_observer(EventSchedule(args.event))
     watch = SummaryWatch(mission.spec)
     runner.add_observer(watch)
-    if args.log:
-        runner.add_observer(RunLogger(args.log, runner.joint_names))
+    realtime = bool(args.realtime or runner.driver.realtime)
+    if log is not None:
+        from ..ecosystem.log_process import LogProcessError
+        from ..runtime.writer_thread import BATCH, DROP
+
+        try:
+            log.prepare(runner, DROP if realtime else BATCH)
+        except LogProcessError as error:
+            print(f"robocop-mission run: error: {error}", file=sys.stderr)
+            return 3
     viewer = recorder = None
     if watched or args.record:
         from ..viewer import ViewerConnectionError, ViewerError
@@ -111,17 +153,40 @@ def _run(args, signals) -> int:
         except ViewerError as error:
             print(f"error: {error}", file=sys.stderr)
             return 3 if isinstance(error, ViewerConnectionError) else 2
-        for observer in (viewer, recorder):
-            if observer is not None:
-                runner.add_observer(observer)
+    writers = []
+    if address is not None:
+        from ..ecosystem import FoxgloveError, foxglove_live
+
+        try:
+            writers.append(foxglove_live(mission.world, runner.joint_names, *address,
+                                         name=f"robocop-mission: {mission.name}"))
+        except FoxgloveError as error:
+            print(f"robocop-mission run: error: {error}", file=sys.stderr)
+            if viewer is not None:
+                viewer.close()
+            return 3
+        print(f"foxglove: {writers[-1].sink.url}", flush=True)
+    if log is not None:
+        writers.append(log)
+    for observer in writers + [viewer, recorder]:
+        if observer is not None:
+            runner.add_observer(observer)
     display = ProgressDisplay(mission.name)
     runner.add_observer(display)
     signals.attach(runner)
-    result = runner.run(duration=duration, realtime=args.realtime or runner.driver.realtime)
+    gc.freeze()     # what was made before the run stays out of the collector's passes
+    try:
+        result = runner.run(duration=duration, realtime=realtime)
+    finally:
+        gc.unfreeze()
     display.close()
     print_summary(result, sys.stdout, watch.summary)
     if args.debug and runner.error is not None:
         print(runner.fault_traceback(), file=sys.stderr, end="")
+    for writer in writers:
+        if writer.dropped:
+            print(f"warning: a writer fell behind the loop and dropped {writer.dropped} "
+                  "cycles ('dropped' events say which)", file=sys.stderr)
     if args.log:
         print(f"log: {args.log}")
     if recorder is not None:

@@ -30,9 +30,6 @@ class Layout:
         self._stamps: list = []
         self._numbers: list = []
 
-    def __len__(self) -> int:
-        return len(self._bytes)
-
     def stamp(self) -> None:
         """A ``builtin_interfaces/Time`` slot."""
         self._align(4)
@@ -93,7 +90,9 @@ class Layout:
             time = np.empty((rows, 2), "<u4")
             time[:, 0] = (stamps // 1_000_000_000).astype("<i4").view("<u4")
             time[:, 1] = stamps % 1_000_000_000
-            out[:, self._stamps] = np.tile(time.view(np.uint8), len(self._stamps) // 8)
+            slots = len(self._stamps) // 8
+            out[:, self._stamps] = np.broadcast_to(
+                time.view(np.uint8)[:, None, :], (rows, slots, 8)).reshape(rows, -1)
         if self._numbers:
             values = np.ascontiguousarray(numbers, dtype="<f8").reshape(rows, -1)
             out[:, self._numbers] = values.view(np.uint8)

@@ -1,5 +1,8 @@
 """Where the bodies of a world are, as ``/tf`` and ``/tf_static`` give them: each body's
-pose in the world frame, bodies fixed to the world once, the others at every cycle."""
+pose in the world frame, bodies fixed to the world once, the others for a batch of
+configurations at once (the forward kinematics of the world's pinocchio model in numpy,
+along its joints: a few array operations per joint for the whole batch, rather than a
+call to pinocchio per configuration and a copy out per body)."""
 
 from __future__ import annotations
 
@@ -100,7 +103,7 @@ class _JointMotion:
             rotation = self._rotation + sine * self._turns[0] + (1 - cosine) * self._turns[1]
             return rotation, self._offset + np.outer(angle, self._slide)
         if self._kind == "JointModelFreeFlyer":
-            rotation = _quaternion_matrices(configurations[:, start + 3:start + 7])
+            rotation = quaternion_matrices(configurations[:, start + 3:start + 7])
             offset = configurations[:, start:start + 3]
         else:
             motions = np.empty((len(configurations), 4, 4))
@@ -108,10 +111,11 @@ class _JointMotion:
                 self._model.calc(self._data, q)
                 motions[row] = self._data.M.homogeneous
             rotation, offset = motions[:, :3, :3], motions[:, :3, 3]
-        return self._rotation @ rotation, (self._rotation @ offset[..., None])[..., 0] + self._offset
+        placed = (self._rotation @ offset[..., None])[..., 0] + self._offset
+        return self._rotation @ rotation, placed
 
 
-def _quaternion_matrices(quaternions: np.ndarray) -> np.ndarray:
+def quaternion_matrices(quaternions: np.ndarray) -> np.ndarray:
     """``N x 3 x 3`` rotations of the unit quaternions ``x, y, z, w`` (``N x 4``)."""
     x, y, z, w = (quaternions / np.linalg.norm(quaternions, axis=1, keepdims=True)).T
     return np.stack([

@@ -11,12 +11,13 @@ poses: their :class:`~.cdr.Layout` is made once per set."""
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 
 from .cdr import Layout
-from .frames import position_quaternion
 
 FRAME_KINDS = ("pose", "orientation")
 POINT_KINDS = ("position", "gaze")
+DRAWN_KINDS = FRAME_KINDS + POINT_KINDS
 ARROW, SPHERE, DELETE_ALL = 0, 2, 3
 AXIS_LENGTH = 0.12          # [m] of a target's arrows
 AXIS_WIDTH = 0.012          # [m]
@@ -51,7 +52,7 @@ class TargetMarkers:
                               else [pose])
         if tuple(shapes) != self._shapes:
             self._shapes, self._layout = tuple(shapes), _layout(shapes)
-        numbers = position_quaternion(np.array(poses).reshape(-1, 4, 4)).reshape(1, -1)
+        numbers = np.array([pin.SE3ToXYZQUAT(pin.SE3(pose)) for pose in poses]).reshape(1, -1)
         return self._layout.encode(np.array([time_ns]), numbers)[0]
 
 

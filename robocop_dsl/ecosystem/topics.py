@@ -9,9 +9,10 @@ topic                      type                                  when
 ``/joint_states``          ``sensor_msgs/msg/JointState``        every cycle: the controlled
                                                                  joints' positions [rad or
                                                                  m], velocities = commands
-``/tf``                    ``tf2_msgs/msg/TFMessage``            every cycle: every other
-                                                                 body (and any the run
-                                                                 moved), parent ``world``
+``/tf``                    ``tf2_msgs/msg/TFMessage``            every ``tf_period``: every
+                                                                 other body (and any the
+                                                                 run moved), parent
+                                                                 ``world``
 ``/mission/state``         ``std_msgs/msg/String``               on each change of the
                                                                  active configuration
 ``/mission/events``        ``std_msgs/msg/String``               each event, the JSON of
@@ -34,10 +35,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..runtime.views import view_kinds
 from .cdr import Layout, encoder, stamp
 from .description import robot_description
 from .frames import BodyFrames, position_quaternion
-from .markers import TargetMarkers, drawn
+from .markers import DRAWN_KINDS, TargetMarkers
 
 TARGETS_PERIOD = 0.1
 """Mission time [s] between two ``/mission/targets`` messages (and at each change of
@@ -75,10 +77,13 @@ class RunTopics:
     Args:
         world: The run's :class:`~robocop_dsl.world.World`.
         joint_names: The controlled joints, in command order.
+        tf_period: Mission time [s] between two ``/tf`` messages (0: every cycle).
     """
 
-    def __init__(self, world, joint_names: list):
+    def __init__(self, world, joint_names: list, tf_period: float = 0.0):
         self.joint_names = list(joint_names)
+        self.tf_period = tf_period
+        self._next_tf = 0.0
         self.sensors = list(world.force_sensors())
         self.topics = [Topic("/robot_description", "std_msgs/msg/String", True),
                        Topic("/tf_static", "tf2_msgs/msg/TFMessage", True),
@@ -92,6 +97,8 @@ class RunTopics:
                         for body in self.sensors]
         self._description = robot_description(world)
         self._frames = BodyFrames(world)
+        self._static = dict(zip(self._frames.fixed, self._frames.fixed_poses))
+        self._moving = {body: index for index, body in enumerate(self._frames.moving)}
         self._string = encoder("std_msgs/msg/String")
         self._log = encoder("rcl_interfaces/msg/Log")
         self._joint_states = Layout()
@@ -106,7 +113,7 @@ class RunTopics:
         self._moved: dict = {}                            # body -> last 4x4 pose
         self._state: str | None = None
         self._markers = TargetMarkers()
-        self._targets: tuple = (None, -np.inf)            # drawn tasks, time [s]
+        self._targets: tuple = ((), -np.inf)              # drawn tasks, time [s]
 
     def opening(self) -> list:
         """The messages at mission time 0: the URDF and the bodies fixed to the world."""
@@ -117,8 +124,7 @@ class RunTopics:
                 ("/tf_static", 0, static[0])]
 
     def cycles(self, records: list) -> list:
-        """The messages of consecutive cycles
-        (:class:`~robocop_dsl.runtime.CycleRecord`)."""
+        """The messages of consecutive cycles (:class:`~robocop_dsl.runtime.CycleRecord`)."""
         if not records:
             return []
         times = np.array([to_ns(record.time) for record in records], dtype=np.int64)
@@ -126,7 +132,12 @@ class RunTopics:
                             np.array([record.command for record in records])])
         messages = [("/joint_states", time, data) for time, data in
                     zip(times, self._joint_states.encode(times, joints))]
-        messages += self._tf(records, times)
+        shown = []
+        for row, record in enumerate(records):
+            if record.time >= self._next_tf - 1e-9:
+                shown.append(row)
+                self._next_tf = record.time + self.tf_period
+        messages += self._tf(records, times, shown)
         for body, layout in self._wrench.items():
             wrenches = np.array([record.wrenches.get(body, np.full(6, np.nan))
                                  for record in records])
@@ -139,52 +150,63 @@ class RunTopics:
             messages += self._target_markers(record, time)
         return messages
 
-    def event(self, event: dict) -> list:
-        """The messages of one event (as a line of ``events.jsonl``)."""
+    def event(self, line: str) -> list:
+        """The messages of one event, given as its line of ``events.jsonl``."""
+        event = json.loads(line)
         time = to_ns(event.get("time", 0.0))
-        text = json.dumps(event, default=str)
-        line = {"stamp": stamp(time), "level": LOG_LEVELS.get(event.get("kind"), 20),
-                "name": "mission", "msg": event_line(event), "file": "", "function": "",
-                "line": 0}
-        return [("/mission/events", time, self._string({"data": text})),
-                ("/rosout", time, self._log(line))]
+        log = {"stamp": stamp(time), "level": LOG_LEVELS.get(event.get("kind"), 20),
+               "name": "mission", "msg": event_line(event), "file": "", "function": "",
+               "line": 0}
+        return [("/mission/events", time, self._string({"data": line})),
+                ("/rosout", time, self._log(log))]
 
-    def _tf(self, records: list, times: np.ndarray) -> list:
-        """``/tf``: the moving bodies, then the bodies the run moved so far (free bodies
-        as physics put them, attached or placed bodies; a released body stays where it
-        was left)."""
-        frames = self._frames
-        poses = frames.moving_poses(np.array([record.q for record in records]))
-        extra = []
-        for row, record in enumerate(records):
-            self._moved.update(record.body_poses)
-            extra.append(dict(self._moved))
-        moving = {body: index for index, body in enumerate(frames.moving)}
-        others = [body for body in self._moved if body not in moving]
-        bodies = tuple(frames.moving) + tuple(others)
+    def _tf(self, records: list, times: np.ndarray, shown: list) -> list:
+        """``/tf`` at the cycles ``records[shown]``: the moving bodies, then the bodies
+        the run moved so far (free bodies as physics put them, attached or placed
+        bodies; a released body stays where it was left)."""
+        moving = self._moving
+        last = dict(self._moved)
+        for record in records:
+            last.update({body: None for body in record.body_poses
+                         if body not in moving and body not in last and body in self._static})
+        others = list(last)
+        for body in others:
+            if last[body] is None:
+                last[body] = self._static[body]
+        bodies = tuple(moving) + tuple(others)
         if bodies != self._transforms[0]:
             self._transforms = (bodies, _transforms_layout(bodies))
-        everything = np.concatenate([poses, np.empty((len(records), len(others), 4, 4))], 1)
-        for row, moved in enumerate(extra):
-            for body, pose in moved.items():
-                column = moving.get(body, None)
-                everything[row, len(frames.moving) + others.index(body)
-                           if column is None else column] = pose
-        numbers = position_quaternion(everything).reshape(len(records), -1)
-        return [("/tf", time, data)
-                for time, data in zip(times, self._transforms[1].encode(times, numbers))]
+        poses = np.empty((len(shown), len(bodies), 4, 4))
+        if shown:
+            poses[:, :len(moving)] = self._frames.moving_poses(
+                np.array([records[row].q for row in shown]))
+        rows = dict(zip(shown, range(len(shown))))
+        for row, record in enumerate(records):
+            for body, pose in record.body_poses.items():
+                if body in last:
+                    last[body] = pose
+                elif body in moving and row in rows:
+                    poses[rows[row], moving[body]] = pose
+            if row in rows:
+                for column, body in enumerate(others, start=len(moving)):
+                    poses[rows[row], column] = last[body]
+        self._moved = last
+        if not shown:
+            return []
+        numbers = position_quaternion(poses).reshape(len(shown), -1)
+        return [("/tf", time, data) for time, data in
+                zip(times[shown], self._transforms[1].encode(times[shown], numbers))]
 
     def _target_markers(self, record, time: int) -> list:
         """``/mission/targets`` at this cycle: every :data:`TARGETS_PERIOD` while tasks
-        with targets are enabled, and when they change."""
+        with targets are enabled, and when they change (an empty array once when none
+        is left)."""
+        names = tuple(name for name, kind in view_kinds(record.tasks) if kind in DRAWN_KINDS)
         shown, last = self._targets
-        if shown == () and record.time < last + TARGETS_PERIOD:
-            return []                   # nothing drawn, and the empty array was sent
-        views = [view for view in record.tasks if view.name in drawn(record.tasks)]
-        names = tuple(view.name for view in views)
-        if names == shown and record.time < last + TARGETS_PERIOD - 1e-9:
+        if names == shown and (not names or record.time < last + TARGETS_PERIOD - 1e-9):
             return []
         self._targets = (names, record.time)
+        views = [view for view in record.tasks if view.name in names]
         return [("/mission/targets", time, self._markers.encode(views, time))]
 
 

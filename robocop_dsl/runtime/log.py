@@ -23,22 +23,25 @@ cycles into one row group and writes it to ``timeseries.parts/`` as a file of it
 (written under a temporary name, then renamed), so memory stays flat and a killed run
 keeps every row group but the one in progress. When the run stops, the parts are
 joined into ``timeseries.parquet`` (a minute of mission time per row group) and
-removed. :func:`read_timeseries` reads either.
+removed. :func:`read_timeseries` reads either. pyarrow is imported and the schema made
+before the first cycle; in a real-time run, a writer that falls :data:`BACKLOG` row
+groups behind drops the oldest (a ``dropped`` event says which cycles) rather than hold
+up the loop; in a headless run, the loop waits for it (:mod:`~robocop_dsl.runtime.writer_thread`).
 """
 
 from __future__ import annotations
 
+import io
 import json
 import os
-import queue
 import shutil
-import threading
-import time
 from pathlib import Path
 
 import numpy as np
 
 from .records import CycleRecord, Event, Observer
+from .run_info import RunInfo
+from .writer_thread import BATCH, WriterThread
 
 EVENTS = "events.jsonl"
 TIMESERIES = "timeseries.parquet"
@@ -50,7 +53,7 @@ JOINED_GROUPS = 60
 DEFAULT_ROWS = 200
 """Rows per row group when the run's period is not known."""
 BACKLOG = 4
-"""Row groups waiting for the writer thread at most; the loop waits beyond."""
+"""Row groups waiting for the writer thread at most."""
 
 
 class RunLogger(Observer):
@@ -61,47 +64,66 @@ class RunLogger(Observer):
     Args:
         folder: The log folder (made if missing).
         joint_names: The controlled joints, in command order.
+        policy: What the writer does when :data:`BACKLOG` row groups wait
+            (:mod:`~robocop_dsl.runtime.writer_thread`): ``drop`` the oldest (a real-time
+            run), write them all while the loop waits (``batch``, a headless run), or
+            make the caller ``wait``.
+
+    Attributes:
+        dropped: How many cycles the writer dropped.
     """
 
-    def __init__(self, folder: str | Path, joint_names: list):
+    def __init__(self, folder: str | Path, joint_names: list, policy: str = BATCH):
         self.folder = Path(folder)
         self.folder.mkdir(parents=True, exist_ok=True)
         self.joint_names = list(joint_names)
+        self.policy = policy
         self._events = open(self.folder / EVENTS, "w", encoding="utf-8")
         self._batch: list[CycleRecord] = []
         self._rows = DEFAULT_ROWS
+        self._time_step = 0.0
         self._tasks: dict | None = None
         self._units: dict = {}
+        self._kinds: dict = {}
         self._groups = 0
-        self._queue: queue.Queue = queue.Queue(BACKLOG)
-        self._writer: threading.Thread | None = None
-        self._failure: BaseException | None = None
+        self._writer: WriterThread | None = None
         self._schema = None
         self._bodies: list = []
         self._sensors: list = []
         self._variables: dict = {}
         self._joint_groups: dict = {}
+        self._report = None
+        self.dropped = 0
+        warm_up()
 
     def on_start(self, runner) -> None:
-        """Size the row groups to the run's period and give every task of the run its
-        columns (else they come from the first row group's enabled tasks)."""
-        self._rows = max(1, round(GROUP_DURATION / runner.time_step))
-        self._tasks = {task.name: _reference_width(task) for task in runner.tasks()}
-        self._units = {task.name: _error_unit(task) for task in runner.tasks()}
-        self._bodies = list(getattr(runner, "free_bodies", ()))
-        self._sensors = list(runner.sensors.bodies) if hasattr(runner, "sensors") else []
-        self._joint_groups = declared_groups(runner.controller.world, self.joint_names)
-        variables = getattr(runner, "variables", None)
-        self._variables = {name: (spec.size, spec.unit)
-                           for name, spec in (variables.specs.items() if variables else ())}
+        """Size the row groups to the run's period, give every task of the run its
+        columns (else they come from the first row group's enabled tasks), make the
+        schema and start the writer. ``runner``: the run, or its
+        :class:`~robocop_dsl.runtime.run_info.RunInfo`."""
+        info = RunInfo.of(runner)
+        self._time_step = info.time_step
+        self._rows = max(1, round(GROUP_DURATION / info.time_step))
+        self._tasks = {name: task.width for name, task in info.tasks.items()}
+        self._units = {name: task.unit for name, task in info.tasks.items()}
+        self._kinds = {name: {"kind": task.kind, "body": task.body}
+                       for name, task in info.tasks.items()}
+        self._bodies = list(info.free_bodies)
+        self._sensors = list(info.sensors)
+        self._joint_groups = dict(info.joint_groups)
+        self._variables = dict(info.variables)
+        self._report = info.report
+        self._open([])
 
     def on_cycle(self, record: CycleRecord) -> None:
         self._batch.append(record)
         if len(self._batch) >= self._rows:
             self._hand_over()
+        if self._writer is not None:
+            self._writer.loop_sleeps(self._time_step, record.cycle_time)
 
     def on_event(self, event: Event) -> None:
-        self._events.write(json.dumps(event.to_json(), default=_plain) + "\n")
+        self._events.write(event_json(event) + "\n")
         self._events.flush()
 
     def on_stop(self, result) -> None:
@@ -111,11 +133,10 @@ class RunLogger(Observer):
             if self._tasks is None:
                 return
             self._open([])
-        self._queue.put(None)
-        self._writer.join()
-        self._writer = None
-        if self._failure is not None:
-            raise self._failure
+        try:
+            self._writer.close()
+        finally:
+            self._writer = None
         self._join_parts()
 
     def _hand_over(self) -> None:
@@ -123,8 +144,12 @@ class RunLogger(Observer):
             return
         if self._writer is None:
             self._open(self._batch)
-        self._queue.put(self._batch)
-        self._batch = []
+        batch, self._batch = self._batch, []
+        dropped = self._writer.put(batch)
+        if dropped:
+            self.dropped += len(dropped)
+            if self._report is not None:
+                self._report("dropped", dropped_event("time series", dropped))
 
     def _open(self, records: list) -> None:
         """Fix the columns, clear the folder's time series, start the writer thread."""
@@ -133,32 +158,28 @@ class RunLogger(Observer):
         if self._tasks is None:
             self._tasks = {v.name: len(reference_vector(v.reference))
                            for r in records for v in r.tasks}
+        metadata = {GROUPS_KEY: json.dumps(self._joint_groups)}
+        if self._kinds:
+            metadata[TASKS_KEY] = json.dumps(self._kinds)
         self._schema = pa.schema(_fields(self.joint_names, self._tasks, self._units,
                                          self._bodies, self._sensors, self._variables),
-                                 metadata={GROUPS_KEY: json.dumps(self._joint_groups)})
+                                 metadata=metadata)
         shutil.rmtree(self.folder / PARTS, ignore_errors=True)
         (self.folder / PARTS).mkdir()
         (self.folder / TIMESERIES).unlink(missing_ok=True)
-        self._writer = threading.Thread(target=self._write_groups, name="run log writer",
-                                        daemon=True)
-        self._writer.start()
+        self._writer = WriterThread("run log writer", self._write_group, BACKLOG,
+                                    self.policy)
 
-    def _write_groups(self) -> None:
-        """The writer thread: each batch of records becomes a row group file."""
+    def _write_group(self, records: list) -> None:
+        """In the writer thread: a batch of records becomes a row group file."""
         import pyarrow.parquet as pq
 
-        while (batch := self._queue.get()) is not None:
-            if self._failure is not None:
-                continue
-            try:
-                table = self._table(batch)
-                final = self.folder / PARTS / f"{self._groups:08d}.parquet"
-                temporary = final.with_suffix(".tmp")
-                pq.write_table(table, temporary)
-                os.replace(temporary, final)
-                self._groups += 1
-            except Exception as error:  # reported by on_stop, in the loop's thread
-                self._failure = error
+        table = self._table(records)
+        final = self.folder / PARTS / f"{self._groups:08d}.parquet"
+        temporary = final.with_suffix(".tmp")
+        pq.write_table(table, temporary)
+        os.replace(temporary, final)
+        self._groups += 1
 
     def _table(self, records: list):
         import pyarrow as pa
@@ -178,8 +199,8 @@ class RunLogger(Observer):
             columns[f"command.{joint}"] = commands[:, index]
         views = []
         for record in records:
+            self._writer.turn()
             views.append({v.name: v for v in record.tasks})
-            time.sleep(0)   # let the control loop take the interpreter at once
         for task, size in self._tasks.items():
             columns[f"error.{task}"] = np.array(
                 [v[task].error if task in v else np.nan for v in views])
@@ -231,6 +252,30 @@ class RunLogger(Observer):
         return path
 
 
+def warm_up() -> None:
+    """Import pyarrow and write a table, so that what it imports on first use (pandas,
+    the Parquet writer) is imported before the run, not by the writer thread while the
+    loop runs."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    pq.write_table(pa.table({"time": np.zeros(1)}), io.BytesIO())
+
+
+def event_json(event: Event) -> str:
+    """An event as its line of ``events.jsonl`` (without the newline)."""
+    return json.dumps(event.to_json(), default=_plain)
+
+
+def dropped_event(writer: str, records: list) -> dict:
+    """The data of a ``dropped`` event: ``writer`` fell behind and dropped the cycles
+    of ``records``."""
+    first, last = records[0], records[-1]
+    return {"writer": writer, "cycles": len(records), "from": first.time, "to": last.time,
+            "message": f"{writer} writer fell behind: dropped {len(records)} cycles "
+                       f"({first.time:.3f} s to {last.time:.3f} s)"}
+
+
 POSE_COMPONENTS = ("x", "y", "z", "qx", "qy", "qz", "qw")
 """The logged components of a free body's pose: position [m], unit quaternion."""
 
@@ -251,6 +296,10 @@ def wrench_columns(body: str) -> list:
 GROUPS_KEY = b"joint_groups"
 """The time series' schema metadata holding the world's joint groups (JSON: name ->
 joints) made of logged joints only, for ``plot``'s panels."""
+TASKS_KEY = b"tasks"
+"""The time series' schema metadata giving each task's kind (as a
+:class:`~robocop_dsl.runtime.TaskView`'s) and body (JSON: name -> ``{kind, body}``), for
+``export``'s target markers."""
 
 
 def declared_groups(world, joints: list) -> dict:
@@ -298,7 +347,7 @@ def _fields(joint_names: list, tasks: dict, units: dict, bodies: list = (),
     return fields
 
 
-def _error_unit(task) -> str | None:
+def error_unit(task) -> str | None:
     """The unit of a task's error norm: ``m``, ``rad`` or ``m+rad`` (a pose, or a joint
     group with both kinds of joints), ``N`` (a force); ``None`` for velocity tasks."""
     if task.order != 0:
@@ -326,7 +375,7 @@ def timeseries_schema(folder: str | Path):
     return pq.read_schema(parts[0])
 
 
-def _reference_width(task) -> int:
+def reference_width(task) -> int:
     """How many numbers a task's logged reference has: 6 for an orientation (logged as
     a pose, see :func:`reference_vector`), 3 for a force (its target, whatever axes it
     controls), else the task's dimension."""

@@ -69,10 +69,11 @@ class CycleRecord:
 
 @dataclass(frozen=True)
 class Event:
-    """Something that happened during a run: ``kind`` is one of ``start``,
-    ``transition``, ``action``, ``qp_failure``, ``overrun``, ``fault`` (its ``message``
-    names what failed), ``event``, ``log``, ``end`` (``outcome``, ``state``,
-    ``message``, ``holding``)."""
+    """Something that happened during a run: ``kind`` is one of ``start`` (``state``,
+    ``world``: the world file's path), ``transition``, ``action``, ``qp_failure``,
+    ``overrun``, ``fault`` (its ``message`` names what failed), ``event``, ``log``,
+    ``dropped`` (a writer fell behind: ``writer``, ``cycles``, ``from`` and ``to`` [s]),
+    ``end`` (``outcome``, ``state``, ``message``, ``holding``)."""
 
     kind: str
     time: float

@@ -154,7 +154,8 @@ class Runner:
         self._started = True
         for observer in list(self.observers):
             self._call(observer, "on_start", self)
-        self._notify_event("start", {"state": self.state})
+        self._notify_event("start", {"state": self.state,
+                                     "world": str(self.controller.world.path)})
         try:
             self.driver.connect()
             q, v = self.driver.read()
@@ -209,9 +210,12 @@ class Runner:
     def run(self, duration: float | None = None, realtime: bool = False) -> RunResult:
         """Run until a final state, a fault, ``duration`` [s] of mission time,
         :meth:`stop` or Ctrl-C (a second Ctrl-C while the robot stops holds it at once);
-        return :meth:`finish`'s result."""
+        return :meth:`finish`'s result. Real time counts from the end of :meth:`start`
+        (the observers' set-up takes what it takes)."""
         wall_start = clock.perf_counter()
         try:
+            self.start()
+            wall_start = clock.perf_counter()
             self._loop(duration, realtime, wall_start)
         except KeyboardInterrupt:
             self.stop("interrupted (Ctrl-C)")
@@ -240,6 +244,11 @@ class Runner:
         cycle = self.cycle if self._in_cycle else max(self.cycle - 1, 0)
         self.chart.raise_event(event, cycle)
         self._notify_event("event", {"name": event})
+
+    def report(self, kind: str, data: dict) -> None:
+        """An event about the run from one of its observers (``dropped``: a writer fell
+        behind and dropped data), heard by every observer."""
+        self._notify_event(kind, data)
 
     def log(self, text: str) -> None:
         """A ``log`` event; its ``state`` is the path of the state whose block or clause
@@ -272,7 +281,9 @@ class Runner:
             self.kinematics.place(body, "world", pose)
             self._attached[body] = self.kinematics.frame_id(body)
         self._notify_event("action", {"action": "set_pose", "body": body,
-                                      "position": pose.translation.tolist()})
+                                      "position": pose.translation.tolist(),
+                                      "orientation": pin.Quaternion(pose.rotation).coeffs()
+                                      .tolist()})
 
     def attach(self, body: str, parent: str) -> None:
         """Make ``body`` move rigidly with ``parent`` from now on: in physics, a weld

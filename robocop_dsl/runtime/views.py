@@ -10,13 +10,16 @@ which observers that keep records (the run log) do after the run.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
 import pinocchio as pin
 
+from ..control.tasks.base import Task
 from .records import TaskView
 
+_LINEAR, _ANGULAR = slice(0, 3), slice(3, 6)     # of a pose task's error
 _KINDS = {"joint_position": "joint", "joint_velocity": "velocity", "body_velocity": "velocity",
           "body_position": "position", "body_orientation": "orientation", "body_pose": "pose",
           "body_force": "force"}
@@ -54,6 +57,19 @@ class TaskViews(Sequence):
         return f"TaskViews({list(self._resolved())!r})"
 
 
+def view_kind(task) -> str:
+    """The :class:`TaskView` kind of a task (``pose`` for a ``body_pose`` task...)."""
+    return _KINDS.get(task.kind, task.kind)
+
+
+def view_kinds(tasks) -> tuple:
+    """``(name, kind)`` of each view of ``tasks``: a :class:`TaskViews` (read without
+    computing its views) or any sequence of :class:`TaskView`."""
+    if isinstance(tasks, TaskViews):
+        return tuple((capture[0].name, view_kind(capture[0])) for capture in tasks._captures)
+    return tuple((view.name, view.kind) for view in tasks)
+
+
 def task_views(controller) -> TaskViews:
     """The enabled tasks of ``controller`` at its latest state."""
     poses = controller.kinematics.poses()
@@ -63,7 +79,7 @@ def task_views(controller) -> TaskViews:
 
 def _resolve(task, sample, target, poses: dict) -> TaskView:
     """A task's view from what was captured in its cycle."""
-    kind = _KINDS.get(task.kind, task.kind)
+    kind = view_kind(task)
     body = getattr(task, "body", None)
     if sample.value is None:
         return TaskView(task.name, kind, body, float("nan"), np.zeros(0), np.zeros(0))
@@ -77,13 +93,16 @@ def _resolve(task, sample, target, poses: dict) -> TaskView:
         return TaskView(task.name, kind, body, error, shown,
                         _in_world(task, sample.reference, frame, None))
     body_pose = poses[task.body_id] if task.kind == "body_orientation" else None
-    parts = (float("nan"), float("nan"))
     if task.kind == "body_pose":
         error = task.compute_error(sample.value, sample.goal)
-        angular = list(task.angular_axes)
-        parts = (float(np.linalg.norm(np.delete(error, angular))),
-                 float(np.linalg.norm(error[angular])))
-    return TaskView(task.name, kind, body, task.error_norm(sample.value, sample.goal),
+        linear, angular = error[_LINEAR], error[_ANGULAR]
+        parts = (math.sqrt(linear @ linear), math.sqrt(angular @ angular))
+        norm = (math.hypot(*parts) if type(task).error_norm is Task.error_norm
+                else task.error_norm(sample.value, sample.goal))
+    else:
+        parts = (float("nan"), float("nan"))
+        norm = task.error_norm(sample.value, sample.goal)
+    return TaskView(task.name, kind, body, norm,
                     _in_world(task, sample.goal, frame, body_pose),
                     _in_world(task, sample.reference, frame, body_pose), *parts)
 

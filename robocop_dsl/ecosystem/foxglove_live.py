@@ -1,0 +1,113 @@
+"""The run live over the Foxglove WebSocket protocol (foxglove-sdk's server): the same
+topics as ``run.mcap``, on 127.0.0.1:8765 unless told otherwise; serving any address
+but the loopback's needs the caller's explicit consent (``--allow-remote``), as the
+data goes to whoever connects.
+
+A client that subscribes to a latched topic (the URDF, the fixed bodies, the state,
+the targets) gets its last message at once."""
+
+from __future__ import annotations
+
+import ipaddress
+
+from ..diagnostics import RobocopError
+from .msgdefs import message_definition
+
+DEFAULT_ADDRESS = "127.0.0.1:8765"
+
+
+class FoxgloveError(RobocopError):
+    """A Foxglove server that cannot be started: a port taken, an unknown host."""
+
+
+class FoxgloveAddressError(FoxgloveError):
+    """An address that is not ``HOST:PORT``, or not the loopback's without consent."""
+
+
+def parse_address(text: str, allow_remote: bool = False) -> tuple:
+    """``(host, port)`` of ``HOST:PORT`` (``[::1]:PORT`` for IPv6; port 0: any free).
+
+    Raises:
+        FoxgloveAddressError: not ``HOST:PORT``, a port out of 0..65535, or a host that
+            is not the loopback without ``allow_remote``.
+    """
+    host, colon, port = text.rpartition(":")
+    host = host[1:-1] if host.startswith("[") and host.endswith("]") else host
+    if not colon or not host or not port.isdigit() or int(port) > 65535:
+        raise FoxgloveAddressError(f"--foxglove '{text}': expected HOST:PORT, a port from 0 to "
+                            f"65535 (e.g. {DEFAULT_ADDRESS})")
+    if not allow_remote and not _loopback(host):
+        raise FoxgloveAddressError(f"--foxglove '{text}': {host} is not the loopback address, so "
+                            "anyone who reaches this machine could watch the run; add "
+                            "--allow-remote to serve it there anyway")
+    return host, int(port)
+
+
+def _loopback(host: str) -> bool:
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+class FoxgloveServer:
+    """A Foxglove WebSocket server with one channel per topic, CDR messages with their
+    ROS 2 definitions (a sink of :class:`~.stream.TopicStream`).
+
+    Args:
+        host: The address to serve on.
+        port: Its port (0: any free one).
+        topics: The :class:`~.topics.Topic` s to advertise.
+        name: The server's name, shown by Foxglove.
+
+    Attributes:
+        url: ``ws://HOST:PORT`` to open in Foxglove.
+
+    Raises:
+        FoxgloveError: the server cannot listen there (a port taken, an unknown host).
+    """
+
+    def __init__(self, host: str, port: int, topics: list, name: str = "robocop-mission"):
+        import foxglove
+
+        self._context = foxglove.Context()
+        try:
+            self._server = foxglove.start_server(name=name, host=host, port=port,
+                                                 context=self._context,
+                                                 server_listener=self)
+        except RuntimeError as error:
+            reason = str(error).removeprefix("FoxgloveError: ")
+            raise FoxgloveError(f"cannot serve Foxglove on {host}:{port}: {reason}") from None
+        shown = f"[{host}]" if ":" in host else host
+        self.url = f"ws://{shown}:{self._server.port}"
+        self._channels = {
+            topic.name: foxglove.Channel(
+                topic.name, message_encoding="cdr", context=self._context,
+                schema=foxglove.Schema(name=topic.type, encoding="ros2msg",
+                                       data=message_definition(topic.type).encode()))
+            for topic in topics}
+        self._latched = {topic.name: None for topic in topics if topic.latched}
+
+    def write(self, messages: list) -> None:
+        """Send ``(topic, time [ns], bytes)`` messages to the subscribed clients."""
+        for topic, time, data in messages:
+            self._channels[topic].log(data, log_time=int(time))
+            if topic in self._latched:
+                self._latched[topic] = (int(time), data)
+
+    def checkpoint(self) -> None:
+        """Nothing to do: messages go out as they are written."""
+
+    def close(self) -> None:
+        self._server.stop()
+
+    def on_subscribe(self, client, channel) -> None:
+        """Called by the server: send a latched topic's last message."""
+        last = self._latched.get(channel.topic)
+        if last is not None:
+            self._channels[channel.topic].log(last[1], log_time=last[0])
+
+    def on_unsubscribe(self, client, channel) -> None:
+        """Called by the server when a client unsubscribes or leaves."""

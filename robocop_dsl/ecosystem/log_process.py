@@ -1,0 +1,252 @@
+"""The run log (``events.jsonl``, the time series, ``run.mcap``) written by a process
+of its own, as ``run --log`` does: only one thread of a process runs Python at a time,
+so writers in the loop's process take turns with it; in their own process they work on
+the other core.
+
+The loop's side (:class:`LogProcess`, a run observer) hands the cycles and events over
+every :data:`PERIOD` of mission time to a thread that computes the task views, packs
+the cycles into arrays (:mod:`~robocop_dsl.runtime.record_batch`) and sends them down
+a pipe (policies as :mod:`~robocop_dsl.runtime.writer_thread`'s: a real-time run drops
+its oldest cycles rather than wait, a headless run waits). The writing process
+(``python -m robocop_dsl.ecosystem.log_process``, at a lower priority) runs a
+:class:`~robocop_dsl.runtime.RunLogger` and the ``run.mcap`` writer on them. Neither
+SIGINT nor SIGTERM stops it: the run's process stops the run and then the log. If that
+process dies, the log stays as a killed run leaves it (the row groups and the MCAP
+chunks written so far).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import fcntl
+import os
+import pickle
+import signal
+import struct
+import subprocess
+import sys
+import traceback
+from pathlib import Path
+
+from ..diagnostics import RobocopError
+from ..runtime.log import dropped_event
+from ..runtime.record_batch import pack, unpack
+from ..runtime.records import CycleRecord, Event, Observer
+from ..runtime.run_info import RunInfo
+from ..runtime.writer_thread import BATCH, WAIT, WriterThread
+
+PERIOD = 0.1
+"""Mission time [s] between two hand-overs to the writing process."""
+BACKLOG = 1.0
+"""Mission time [s] of cycles waiting to be sent at most (what the writing process has
+left to write when the run stops, in a headless run)."""
+NICENESS = 10
+"""How much lower the writing process's scheduling priority is than the run's, from
+the first cycle on: on a busy machine, the loop gets the processor first."""
+PIPE_SIZE = 1 << 20
+"""Bytes the pipe to the writing process holds (Linux), about 5 s of cycles of the
+pickup."""
+_LENGTH = struct.Struct("<Q")
+
+
+class LogProcessError(RobocopError):
+    """The writing process failed: it did not start, or a writer raised."""
+
+
+class LogProcess(Observer):
+    """Writes the run's log in ``folder`` from a process of its own, started at once so
+    that its imports overlap what the caller still does before the run; :meth:`prepare`
+    tells it about the run and waits until it is ready.
+
+    Args:
+        folder: The log folder.
+
+    Attributes:
+        dropped: How many cycles were dropped.
+
+    Raises:
+        OSError: the folder cannot be made.
+    """
+
+    def __init__(self, folder):
+        Path(folder).mkdir(parents=True, exist_ok=True)
+        self.folder = str(folder)
+        self.dropped = 0
+        self._process = subprocess.Popen([sys.executable, "-m", __name__],
+                                         stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        if hasattr(fcntl, "F_SETPIPE_SZ"):     # Linux: a pipe of seconds of cycles
+            with contextlib.suppress(OSError):
+                fcntl.fcntl(self._process.stdin.fileno(), fcntl.F_SETPIPE_SZ, PIPE_SIZE)
+        self._policy: str | None = None
+        self._time_step = 0.0
+        self._items: list = []
+        self._next = PERIOD
+        self._sender: WriterThread | None = None
+        self._report = None
+
+    def prepare(self, runner, policy: str) -> None:
+        """Send the run's :class:`~robocop_dsl.runtime.run_info.RunInfo`; wait until the
+        process is ready to write (before the run).
+
+        Args:
+            runner: The run.
+            policy: What the sending thread does when :data:`BACKLOG` waits: ``drop``
+                the oldest cycles (a real-time run) or make the loop wait (``batch``).
+
+        Raises:
+            LogProcessError: the process could not start writing.
+        """
+        info = RunInfo.of(runner)
+        self._report, self._policy, self._time_step = info.report, policy, info.time_step
+        _send(self._process.stdin, ("start", self.folder, info.portable()))
+        reply = _receive(self._process.stdout)
+        if reply is None or reply[0] != "ready":
+            self._process.wait()
+            raise LogProcessError("the log's writing process did not start" +
+                                  (f": {reply[1]}" if reply else ""))
+
+    def on_start(self, runner) -> None:
+        if self._policy is None:
+            self.prepare(runner, BATCH)
+        self._sender = WriterThread("run log sender", self._send,
+                                    max(2, round(BACKLOG / PERIOD)), self._policy)
+
+    def close(self) -> None:
+        """End the process if the run did not (a run that never started)."""
+        if self._process.poll() is None:
+            self._process.kill()
+            self._process.wait()
+
+    def on_cycle(self, record: CycleRecord) -> None:
+        self._items.append(record)
+        if record.time >= self._next - 1e-9:
+            self._next = record.time + PERIOD
+            self._hand_over()
+        if self._sender is not None:
+            self._sender.loop_sleeps(self._time_step, record.cycle_time)
+
+    def on_event(self, event: Event) -> None:
+        self._items.append(event)
+
+    def on_stop(self, result) -> None:
+        """Send the last cycles, let the process finish the log and wait for it."""
+        if self._sender is None:
+            self.close()
+            return
+        self._hand_over()
+        try:
+            self._sender.close()
+            _send(self._process.stdin, ("stop",))
+            reply = _receive(self._process.stdout)
+            problems = reply[1] if reply else ["the log's writing process is gone"]
+        except Exception as error:  # a broken pipe, cycles that could not be packed
+            problems = [f"the log could not be sent to its writing process: {error}"]
+        finally:
+            self._sender = None
+            with contextlib.suppress(OSError):
+                self._process.stdin.close()
+            self._process.wait()
+        if problems:
+            raise LogProcessError("; ".join(problems))
+
+    def _hand_over(self) -> None:
+        items, self._items = self._items, []
+        if not items or self._sender is None:
+            return
+        dropped = self._sender.put(items)
+        records = [item for item in dropped or () if isinstance(item, CycleRecord)]
+        if records:
+            self.dropped += len(records)
+            if self._report is not None:
+                self._report("dropped", dropped_event("time series and run.mcap", records))
+
+    def _send(self, items: list) -> None:
+        """In the sending thread: the items as messages, cycles packed (their task
+        views computed one cycle at a time, while the loop sleeps)."""
+        messages, records = [], []
+        for item in items + [None]:
+            if isinstance(item, CycleRecord):
+                self._sender.turn()
+                tuple(item.tasks)
+                records.append(item)
+                continue
+            if records:
+                self._sender.turn()
+                messages.append(("cycles", pack(records)))
+                records = []
+            if item is not None:
+                messages.append(("event", item))
+        for message in messages:
+            self._sender.turn()
+            _send(self._process.stdin, message)
+
+
+def _send(stream, message) -> None:
+    data = pickle.dumps(message, protocol=pickle.HIGHEST_PROTOCOL)
+    stream.write(_LENGTH.pack(len(data)) + data)
+    stream.flush()
+
+
+def _receive(stream):
+    """The next message, or ``None`` at the end of the stream."""
+    header = stream.read(_LENGTH.size)
+    if len(header) < _LENGTH.size:
+        return None
+    return pickle.loads(stream.read(_LENGTH.unpack(header)[0]))
+
+
+def main() -> None:
+    """The writing process: the writers of the log in the folder the run names, fed
+    the cycles and events the run sends, until it says stop (or disappears)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    requests = sys.stdin.buffer
+    replies = os.fdopen(os.dup(sys.stdout.fileno()), "wb")
+    os.dup2(sys.stderr.fileno(), sys.stdout.fileno())       # stray prints: to stderr
+    from ..runtime.log import RunLogger, warm_up
+    from ..world import load_world
+    from . import mcap_log
+
+    warm_up()
+    start = _receive(requests)
+    if start is None:
+        os._exit(0)
+    _, folder, info = start
+    try:
+        writers = [RunLogger(folder, info.joint_names, WAIT),
+                   mcap_log(load_world(info.world_path), info.joint_names, folder, WAIT)]
+        for writer in writers:
+            writer.on_start(info)
+    except Exception as error:  # sent to the run's process, which reports it
+        _send(replies, ("error", _text(error)))
+        os._exit(1)
+    _send(replies, ("ready",))
+    os.nice(NICENESS)
+    problems: list = []
+    while (message := _receive(requests)) is not None:
+        if message[0] == "stop":
+            for writer in writers:
+                try:
+                    writer.on_stop(None)
+                except Exception as error:  # every writer gets its on_stop
+                    problems.append(_text(error))
+            _send(replies, ("done", problems))
+            replies.close()
+            os._exit(0)
+        if problems:
+            continue
+        try:
+            for item in unpack(message[1]) if message[0] == "cycles" else [message[1]]:
+                for writer in writers:
+                    (writer.on_cycle if message[0] == "cycles" else writer.on_event)(item)
+        except Exception as error:  # told at the stop; what comes after is not written
+            problems.append(_text(error))
+    os._exit(0)                   # the run's process is gone: leave the log as it is
+
+
+def _text(error: BaseException) -> str:
+    return "".join(traceback.format_exception_only(type(error), error)).strip()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,118 @@
+"""A thread that writes what the control loop hands it, in order, without holding the
+loop up. The batches wait in a bounded backlog; what happens when it is full is the
+writer's policy:
+
+- :data:`DROP` (a real-time run): batches are written while the loop sleeps between
+  its cycles: each cycle the loop ends (:meth:`WriterThread.loop_sleeps`) opens a
+  window until about the next one starts, and the work waits for an open window before
+  each of its steps (:meth:`WriterThread.turn`), so that the loop never waits for the
+  interpreter longer than a step. A full backlog drops its oldest batch (the caller
+  reports it).
+- :data:`BATCH` (a headless run): the loop never sleeps, and only one thread runs
+  Python at a time, so a writer working beside it would take the interpreter from it
+  over and over, each switch costing both. The writer waits until the backlog is full,
+  then writes it all while the loop waits (no deadline is missed, the log stays whole).
+- :data:`WAIT` (no loop to protect: a process that only writes): batches are written
+  as they come; a full backlog makes the caller wait.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import deque
+
+DROP, BATCH, WAIT = "drop", "batch", "wait"
+MARGIN = 5e-4
+"""How long [s] before the loop's next cycle a :data:`DROP` writer stops its steps."""
+
+
+class WriterThread:
+    """Runs ``work(batch)`` in a daemon thread for each batch :meth:`put` hands over.
+
+    Args:
+        name: The thread's name.
+        work: Called in the thread with each batch, in order.
+        backlog: Batches waiting at most.
+        policy: :data:`DROP`, :data:`BATCH` or :data:`WAIT`.
+
+    Attributes:
+        failure: The exception ``work`` raised, if any (then the batches after it are
+            skipped); :meth:`close` raises it.
+    """
+
+    def __init__(self, name: str, work, backlog: int, policy: str):
+        self._work = work
+        self._backlog = backlog
+        self._policy = policy
+        self._waiting: deque = deque()
+        self._busy = False
+        self._ready = threading.Condition()
+        self._closed = False
+        self.failure: BaseException | None = None
+        self._window_end = 0.0
+        self._thread = threading.Thread(target=self._run, name=name, daemon=True)
+        self._thread.start()
+
+    def put(self, batch):
+        """Hand ``batch`` over; returns the batch dropped to make room, or ``None``."""
+        dropped = None
+        with self._ready:
+            if self._policy == DROP and len(self._waiting) >= self._backlog:
+                dropped = self._waiting.popleft()
+            self._waiting.append(batch)
+            self._ready.notify_all()
+            if self._policy == BATCH and len(self._waiting) >= self._backlog:
+                self._ready.wait_for(lambda: not self._waiting and not self._busy)
+            elif self._policy == WAIT:
+                self._ready.wait_for(lambda: len(self._waiting) < self._backlog)
+        return dropped
+
+    def loop_sleeps(self, period: float, cycle_time: float) -> None:
+        """Called by the loop at the end of a cycle that took ``cycle_time`` [s] of its
+        ``period`` [s]: it sleeps until about the next one."""
+        if self._policy == DROP:
+            with self._ready:
+                self._window_end = time.perf_counter() + period - cycle_time - MARGIN
+                self._ready.notify_all()
+
+    def turn(self) -> None:
+        """Called by ``work`` before each of its steps: a :data:`DROP` writer waits until
+        the loop sleeps (at once once the run ended)."""
+        if self._policy == DROP:
+            with self._ready:
+                self._ready.wait_for(
+                    lambda: self._closed or time.perf_counter() < self._window_end)
+
+    def close(self) -> None:
+        """Wait for every batch handed over to be written; raise what ``work`` raised."""
+        with self._ready:
+            self._closed = True
+            self._ready.notify_all()
+        self._thread.join()
+        if self.failure is not None:
+            raise self.failure
+
+    def _run(self) -> None:
+        draining = False
+
+        def due() -> bool:
+            return self._closed or len(self._waiting) >= (
+                self._backlog if self._policy == BATCH and not draining else 1)
+
+        while True:
+            with self._ready:
+                self._ready.wait_for(due)
+                if not self._waiting:
+                    return
+                batch = self._waiting.popleft()
+                self._busy = draining = True
+            if self.failure is None:
+                try:
+                    self._work(batch)
+                except Exception as error:  # reported by close(), in the loop's thread
+                    self.failure = error
+            with self._ready:
+                self._busy = False
+                draining = bool(self._waiting)
+                self._ready.notify_all()

@@ -1,0 +1,131 @@
+"""``run --foxglove``: the run live over the Foxglove WebSocket protocol (protocol v1,
+``foxglove.sdk.v1`` as foxglove-sdk names it, formerly ``foxglove.websocket.v1``). A
+plain WebSocket client sees every topic advertised and gets ``/joint_states`` once
+subscribed; bad or remote addresses and taken ports are refused with a clear error."""
+
+import asyncio
+import json
+import re
+import signal
+import socket
+import struct
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import websockets
+from rosbags.typesys import Stores, get_typestore
+
+from conftest import MISSIONS
+from robocop_dsl.cli.main import main
+from robocop_dsl.ecosystem import FoxgloveAddressError, parse_address
+
+REPO = Path(__file__).resolve().parent.parent
+SUBPROTOCOLS = ["foxglove.sdk.v1", "foxglove.websocket.v1"]
+TOPICS = {"/robot_description", "/tf_static", "/joint_states", "/tf", "/mission/state",
+          "/mission/events", "/rosout", "/mission/targets"}
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+async def watch(url: str, count: int) -> tuple:
+    """Connect, read the advertised channels, subscribe to ``/joint_states``; the
+    negotiated subprotocol, the channels and ``count`` messages' payloads."""
+    async with websockets.connect(url, subprotocols=SUBPROTOCOLS, compression=None) as ws:
+        channels: dict = {}
+        while "/joint_states" not in channels:
+            message = await ws.recv()
+            if isinstance(message, str) and json.loads(message)["op"] == "advertise":
+                channels.update({c["topic"]: c for c in json.loads(message)["channels"]})
+        await ws.send(json.dumps({"op": "subscribe", "subscriptions": [
+            {"id": 1, "channelId": channels["/joint_states"]["id"]}]}))
+        payloads = []
+        while len(payloads) < count:
+            message = await ws.recv()
+            if isinstance(message, bytes) and message[0] == 1:      # message data
+                subscription, time = struct.unpack_from("<IQ", message, 1)
+                assert subscription == 1
+                payloads.append((time, message[13:]))
+        return ws.subprotocol, channels, payloads
+
+
+def test_a_client_sees_the_channels_and_gets_joint_states(bazar):
+    port = free_port()
+    process = subprocess.Popen(
+        [sys.executable, "-m", "robocop_dsl", "run", str(MISSIONS / "pickup.mission"),
+         "--foxglove", f"127.0.0.1:{port}", "--realtime"],
+        cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    try:
+        line = process.stdout.readline()
+        assert line.strip() == f"foxglove: ws://127.0.0.1:{port}"
+        protocol, channels, payloads = asyncio.run(watch(f"ws://127.0.0.1:{port}", 5))
+    finally:
+        process.send_signal(signal.SIGINT)
+        process.communicate()
+    assert process.returncode == 130
+    assert protocol == "foxglove.sdk.v1"
+    assert TOPICS <= set(channels)
+    joint_states = channels["/joint_states"]
+    assert (joint_states["encoding"], joint_states["schemaName"],
+            joint_states["schemaEncoding"]) == ("cdr", "sensor_msgs/msg/JointState", "ros2msg")
+    typestore = get_typestore(Stores.ROS2_HUMBLE)
+    group = bazar.joint_group("bazar_upper_joints")
+    times = [time for time, _ in payloads]
+    assert times == sorted(times) and len(set(times)) == len(times)
+    for time, payload in payloads:
+        message = typestore.deserialize_cdr(payload, "sensor_msgs/msg/JointState")
+        assert list(message.name) == list(group.joints)
+        assert message.header.stamp.sec * 10**9 + message.header.stamp.nanosec == time
+
+
+@pytest.mark.parametrize("address, allow, message", [
+    ("localhost", False, "expected HOST:PORT"),
+    ("127.0.0.1:99999", False, "expected HOST:PORT"),
+    ("0.0.0.0:8765", False, "add --allow-remote"),
+    ("192.168.1.10:8765", False, "add --allow-remote"),
+])
+def test_bad_addresses_are_refused(address, allow, message):
+    with pytest.raises(FoxgloveAddressError, match=message):
+        parse_address(address, allow)
+
+
+def test_addresses():
+    assert parse_address("127.0.0.1:8765") == ("127.0.0.1", 8765)
+    assert parse_address("[::1]:0") == ("::1", 0)
+    assert parse_address("localhost:9000") == ("localhost", 9000)
+    assert parse_address("0.0.0.0:8765", allow_remote=True) == ("0.0.0.0", 8765)
+
+
+def test_the_command_line_refuses_a_remote_address_without_consent(capsys):
+    code = main(["run", str(MISSIONS / "pickup.mission"), "--foxglove", "0.0.0.0:8765"])
+    err = capsys.readouterr().err
+    assert code == 2 and "Traceback" not in err
+    assert "robocop-mission run: error: --foxglove '0.0.0.0:8765': 0.0.0.0 is not the" in err
+
+
+def test_a_taken_port_is_a_clear_error(capsys):
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        code = main(["run", str(MISSIONS / "pickup.mission"), "--foxglove",
+                     f"127.0.0.1:{port}", "--duration", "0.1"])
+    err = capsys.readouterr().err
+    assert code == 3 and "Traceback" not in err
+    assert f"cannot serve Foxglove on 127.0.0.1:{port}: Failed to bind port" in err
+
+
+def test_the_layout_shows_the_run_s_topics():
+    """docs/foxglove_layout.json: the 3D view, joint plots, the state and the events, on
+    topics the run publishes."""
+    layout = json.loads((REPO / "docs" / "foxglove_layout.json").read_text())
+    panels = {key.split("!")[0] for key in layout["configById"]}
+    assert {"3D", "Plot", "StateTransitions", "RawMessages", "RosOut"} <= panels
+    used = set(re.findall(r'"(/[a-z_/]+)[."]', json.dumps(layout["configById"])))
+    assert {"/robot_description", "/mission/targets", "/joint_states", "/mission/state",
+            "/rosout"} == used

@@ -1,0 +1,65 @@
+"""``robocop-mission export LOG --mcap``: a log folder as the ``run.mcap`` the run would
+have written (the same joint states, bodies and states), the world from the log's
+``start`` event or, for older logs that do not name it, from ``--world``."""
+
+import json
+
+import numpy as np
+import pytest
+
+from conftest import MISSIONS
+from robocop_dsl.cli.main import main
+from test_mcap_log import PART, TOOL, read_mcap, transform
+
+
+@pytest.fixture(scope="module")
+def logged(tmp_path_factory):
+    """The pickup, 7 s of it with ``--log``, and its folder exported to another file."""
+    folder = tmp_path_factory.mktemp("export") / "log"
+    assert main(["run", str(MISSIONS / "pickup.mission"), "--log", str(folder),
+                 "--duration", "7"]) == 1
+    assert main(["export", str(folder), "--mcap", "-o", str(folder / "exported.mcap")]) == 0
+    return folder, read_mcap(folder / "run.mcap"), read_mcap(folder / "exported.mcap")
+
+
+def test_the_export_has_the_run_s_joint_states_bodies_and_states(logged):
+    _, written, exported = logged
+    for topic in ("/joint_states", "/mission/state", "/mission/events"):
+        assert [time for time, _ in exported[topic]] == [time for time, _ in written[topic]]
+    np.testing.assert_array_equal([m.position for _, m in exported["/joint_states"]],
+                                  [m.position for _, m in written["/joint_states"]])
+    assert ([m.data for _, m in exported["/mission/state"]]
+            == [m.data for _, m in written["/mission/state"]])
+    assert [t for t, _ in exported["/tf"]] == [t for t, _ in written["/tf"]]
+    for (_, mine), (_, theirs) in zip(exported["/tf"], written["/tf"]):
+        for body in (TOOL, PART):
+            ours = transform(mine, body)
+            if transform(theirs, body) is not None:
+                np.testing.assert_allclose(ours[1], transform(theirs, body)[1], atol=1e-9)
+    assert exported["/robot_description"][0][1].data == written["/robot_description"][0][1].data
+    assert exported["/mission/targets"], "the tasks' references"
+
+
+def test_an_older_log_needs_its_world(logged, tmp_path, capsys):
+    folder, written, _ = logged
+    lines = (folder / "events.jsonl").read_text().splitlines()
+    start = json.loads(lines[0])
+    del start["world"]
+    older = tmp_path / "older"
+    older.mkdir()
+    (older / "events.jsonl").write_text("\n".join([json.dumps(start)] + lines[1:]) + "\n")
+    (older / "timeseries.parquet").write_bytes((folder / "timeseries.parquet").read_bytes())
+    assert main(["export", str(older), "--mcap"]) == 1
+    err = capsys.readouterr().err
+    assert "does not say which world the run was on" in err and "--world" in err
+    assert main(["export", str(older), "--mcap", "--world", "bazar/sophia.yaml"]) == 0
+    assert capsys.readouterr().out.strip() == str(older / "run.mcap")
+    exported = read_mcap(older / "run.mcap")
+    assert len(exported["/joint_states"]) == len(written["/joint_states"])
+
+
+def test_what_is_not_a_log_is_a_clear_error(tmp_path, capsys):
+    assert main(["export", str(tmp_path), "--mcap"]) == 1
+    assert f"{tmp_path}: no events.jsonl here" in capsys.readouterr().err
+    assert main(["export", str(tmp_path)]) == 2
+    assert "--mcap" in capsys.readouterr().err

@@ -1,0 +1,165 @@
+"""The writers' threads never hold the loop up: a real-time writer works while the loop
+sleeps and drops its oldest batch when it falls behind (a ``dropped`` event says which
+cycles); a headless one writes its backlog while the loop waits; cycles packed for the
+writing process come back as they were."""
+
+import threading
+
+import numpy as np
+import pytest
+
+from robocop_dsl.ecosystem.stream import TopicStream
+from robocop_dsl.runtime import load_mission
+from robocop_dsl.runtime.record_batch import pack, unpack
+from robocop_dsl.runtime.records import CycleRecord, Observer
+from robocop_dsl.runtime.writer_thread import BATCH, DROP, WAIT, WriterThread
+
+
+def test_a_real_time_writer_drops_its_oldest_batch():
+    started, release, written = threading.Event(), threading.Event(), []
+
+    def work(batch):
+        started.set()
+        release.wait()
+        written.append(batch)
+
+    writer = WriterThread("test", work, 2, DROP)
+    writer.put(0)
+    started.wait()                              # 0 is being written
+    assert [writer.put(batch) for batch in (1, 2, 3, 4)] == [None, None, 1, 2]
+    release.set()
+    writer.close()
+    assert written == [0, 3, 4]
+
+
+def test_a_real_time_writer_works_while_the_loop_sleeps():
+    """``turn`` returns in the window a cycle opens, not after it."""
+    steps = []
+    writer = WriterThread("test", lambda batch: (writer.turn(), steps.append(batch)), 4, DROP)
+    writer.put(0)
+    writer.loop_sleeps(0.005, 0.006)            # a late cycle: no window
+    assert not steps
+    writer.loop_sleeps(10.0, 0.001)             # a long sleep
+    writer.close()
+    assert steps == [0]
+
+
+def test_a_headless_writer_writes_its_backlog_while_the_loop_waits():
+    written, loop_waited = [], []
+    writer = WriterThread("test", written.append, 3, BATCH)
+    for batch in range(2):
+        writer.put(batch)
+    assert written == []                        # the loop goes on, the writer waits
+    writer.put(2)                               # full: the loop waits for all of it
+    loop_waited.append(list(written))
+    writer.put(3)
+    writer.close()
+    assert loop_waited == [[0, 1, 2]] and written == [0, 1, 2, 3]
+
+
+def test_what_work_raises_is_raised_by_close():
+    def work(batch):
+        raise OSError("disk full")
+
+    writer = WriterThread("test", work, 2, WAIT)
+    writer.put(0)
+    with pytest.raises(OSError, match="disk full"):
+        writer.close()
+
+
+class Blocked:
+    """A sink whose first write waits to be released."""
+
+    def __init__(self):
+        self.release, self.entered, self.messages = threading.Event(), threading.Event(), []
+
+    def write(self, messages):
+        self.entered.set()
+        self.release.wait()
+        self.messages += messages
+
+    def checkpoint(self):
+        pass
+
+    def close(self):
+        pass
+
+
+class Topics:
+    """Each cycle as one message."""
+
+    def opening(self):
+        return []
+
+    def cycles(self, records):
+        return [("/cycle", record.cycle, b"") for record in records]
+
+    def event(self, line):
+        return []
+
+
+class Runner:
+    time_step = 0.005
+
+    def __init__(self):
+        self.reported = []
+
+    def report(self, kind, data):
+        self.reported.append((kind, data))
+
+
+def record(cycle: int) -> CycleRecord:
+    return CycleRecord(cycle, cycle * 0.005, "a", np.zeros(1), np.zeros(1), np.zeros(1), True)
+
+
+def test_a_stream_that_falls_behind_reports_the_cycles_it_dropped():
+    sink, runner = Blocked(), Runner()
+    stream = TopicStream(Topics(), sink, "test", 0.01, DROP)
+    sink.release.set()
+    stream.on_start(runner)                     # the opening messages go through
+    sink.entered.clear()
+    sink.release.clear()
+    for cycle in range(3):                      # 0.01 s: 0, 1, 2 handed over
+        stream.on_cycle(record(cycle))
+    sink.entered.wait()                         # writing them, blocked
+    for cycle in range(3, 3 + 2 * 1000):
+        stream.on_cycle(record(cycle))
+    sink.release.set()
+    stream.on_stop(None)
+    [(kind, data)] = runner.reported[:1]
+    assert kind == "dropped" and data["writer"] == "test" and data["from"] == 0.015
+    assert stream.dropped == sum(d["cycles"] for _, d in runner.reported)
+    written = [time for _, time, _ in sink.messages]
+    assert written[:3] == [0, 1, 2] and len(written) + stream.dropped == 2003
+
+
+class Keep(Observer):
+    def __init__(self):
+        self.records = []
+
+    def on_cycle(self, record):
+        self.records.append(record)
+
+
+def test_packed_cycles_come_back_as_they_were():
+    mission = load_mission("missions/pickup.mission")
+    runner = mission.runner()
+    keep = Keep()
+    runner.add_observer(keep)
+    runner.run(duration=6.0)
+    batch = keep.records[1020:1040]             # the part attached at 5.155 s
+    for before, after in zip(batch, unpack(pack(batch))):
+        for field in ("cycle", "time", "state", "solved", "compute_time", "cycle_time"):
+            assert getattr(before, field) == getattr(after, field)
+        for field in ("q", "positions", "command"):
+            np.testing.assert_array_equal(getattr(before, field), getattr(after, field))
+        assert before.body_poses.keys() == after.body_poses.keys()
+        for body, pose in before.body_poses.items():
+            np.testing.assert_array_equal(pose, after.body_poses[body])
+        assert [v.name for v in before.tasks] == [v.name for v in after.tasks]
+        for mine, theirs in zip(before.tasks, after.tasks):
+            assert (mine.kind, mine.body) == (theirs.kind, theirs.body)
+            np.testing.assert_array_equal([mine.error, mine.position_error],
+                                          [theirs.error, theirs.position_error])
+            np.testing.assert_array_equal(mine.target, theirs.target)
+            np.testing.assert_array_equal(mine.reference, theirs.reference)
