@@ -1,16 +1,24 @@
 """Time ``robocop-mission check missions/pickup.mission`` from the shell.
 
 Each run is a fresh interpreter, so the figure includes Python's start, the imports,
-building the parser, loading the world and checking. Prints the best and median of
-``--runs`` wall-clock times in seconds, and the median CPU time (user + system) of the
-child process, which a busy machine disturbs less.
+building the parser, loading the world and checking. The runs of ``check`` alternate
+with runs of ``python -c pass`` (the interpreter's own start, the floor) and, with
+``--run-start``, of ``robocop-mission run --help``. Prints the median and best wall
+times [s], the median CPU time (user + system) of the child, which a busy machine
+disturbs less, and each median's ratio to ``python -c pass``'s. Then, from ``--runs``
+more fresh interpreters, where a check's time goes: importing the command, building
+the parser, loading the world, parsing and checking (medians of CPU time [ms]).
 
-    python bench/check_time.py [--runs 10] [MISSION]
+The caches (parser tables, collision facts) are warm: the first run fills them and is
+not counted.
+
+    python bench/check_time.py [--runs 10] [--run-start] [MISSION]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import resource
 import statistics
 import subprocess
@@ -20,10 +28,34 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 # What the ``robocop-mission`` script that pip installs runs.
-COMMAND = ("import sys\n"
-           "from robocop_dsl.cli.main import entry_point\n"
-           "sys.argv[0] = 'robocop-mission'\n"
-           "sys.exit(entry_point())\n")
+SCRIPT = ("import sys\n"
+          "from robocop_dsl.cli.main import entry_point\n"
+          "sys.argv[0] = 'robocop-mission'\n"
+          "sys.exit(entry_point())\n")
+# One check, phase by phase, in CPU seconds, printed as JSON.
+PHASES = """
+import json, sys, time
+from pathlib import Path
+clock = time.process_time
+marks = [clock()]
+from robocop_dsl.cli.main import build_parser
+from robocop_dsl.compile import WorldCache, build_state_graph, check_file
+from robocop_dsl.compile.load import _world_of
+from robocop_dsl.check import check_graph, check_mission
+from robocop_dsl.lang import mission_grammar, parse_file
+marks.append(clock())
+mission_grammar()
+marks.append(clock())
+parsed = parse_file(sys.argv[1])
+marks.append(clock())
+_, world, _ = _world_of(parsed.mission, parsed.source, WorldCache())
+marks.append(clock())
+ctx = check_mission(parsed.mission, parsed.source, world, Path(sys.argv[1]).parent.resolve())
+check_graph(ctx, ctx.expanded, build_state_graph(ctx.expanded))
+marks.append(clock())
+names = ("imports", "parser tables", "parse", "world", "check")
+print(json.dumps(dict(zip(names, (b - a for a, b in zip(marks, marks[1:]))))))
+"""
 
 
 def _child_cpu() -> float:
@@ -31,18 +63,12 @@ def _child_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def time_check(mission: Path, runs: int) -> tuple[list[float], list[float]]:
-    """Wall-clock and CPU seconds of ``runs`` checks, each in a new process."""
-    walls, cpus = [], []
-    for _ in range(runs):
-        cpu, start = _child_cpu(), time.perf_counter()
-        done = subprocess.run([sys.executable, "-c", COMMAND, "check", str(mission)],
-                              cwd=REPO, capture_output=True, text=True)
-        walls.append(time.perf_counter() - start)
-        cpus.append(_child_cpu() - cpu)
-        if done.returncode != 0:
-            sys.exit(f"check failed ({done.returncode}):\n{done.stdout}{done.stderr}")
-    return walls, cpus
+def timed(arguments: list) -> tuple[float, float, subprocess.CompletedProcess]:
+    """Wall-clock and CPU seconds of ``python ARGUMENTS`` in a new process."""
+    cpu, start = _child_cpu(), time.perf_counter()
+    done = subprocess.run([sys.executable, *arguments], cwd=REPO, capture_output=True,
+                          text=True)
+    return time.perf_counter() - start, _child_cpu() - cpu, done
 
 
 def main() -> None:
@@ -50,11 +76,37 @@ def main() -> None:
     parser.add_argument("mission", nargs="?", default=REPO / "missions" / "pickup.mission",
                         type=Path)
     parser.add_argument("--runs", type=int, default=10)
+    parser.add_argument("--run-start", action="store_true",
+                        help="also time `robocop-mission run --help`")
     args = parser.parse_args()
-    walls, cpus = time_check(args.mission, args.runs)
-    print(f"check {args.mission.name}: wall best {min(walls):.3f} s, median "
-          f"{statistics.median(walls):.3f} s; CPU median {statistics.median(cpus):.3f} s "
-          f"({len(walls)} runs)")
+    lines = [("python -c pass", ["-c", "pass"]),
+             (f"check {args.mission.name}", ["-c", SCRIPT, "check", str(args.mission)])]
+    if args.run_start:
+        lines.append(("run --help", ["-c", SCRIPT, "run", "--help"]))
+    _, _, done = timed(lines[1][1])
+    if done.returncode not in (0, 1):
+        sys.exit(f"check failed ({done.returncode}):\n{done.stdout}{done.stderr}")
+    times = {label: ([], []) for label, _ in lines}
+    for _ in range(args.runs):
+        for label, arguments in lines:
+            wall, cpu, _ = timed(arguments)
+            times[label][0].append(wall)
+            times[label][1].append(cpu)
+    floor = statistics.median(times[lines[0][0]][0])
+    print(f"{'command':<28} {'wall median':>11} {'best':>7} {'CPU median':>10} {'ratio':>6}")
+    for label, (walls, cpus) in times.items():
+        median = statistics.median(walls)
+        print(f"{label:<28} {median:>11.3f} {min(walls):>7.3f} "
+              f"{statistics.median(cpus):>10.3f} {median / floor:>6.2f}")
+    phases: dict[str, list] = {}
+    for _ in range(args.runs):
+        done = subprocess.run([sys.executable, "-c", PHASES, str(args.mission)], cwd=REPO,
+                              capture_output=True, text=True, check=True)
+        for name, seconds in json.loads(done.stdout).items():
+            phases.setdefault(name, []).append(seconds)
+    print(f"\n{'where a check goes (CPU)':<28} {'median ms':>11}")
+    for name, seconds in phases.items():
+        print(f"{name:<28} {statistics.median(seconds) * 1e3:>11.1f}")
 
 
 if __name__ == "__main__":

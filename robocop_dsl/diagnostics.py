@@ -22,7 +22,7 @@ WARNING = "warning"
 _QUOTED_WIDTH = 120
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Span:
     """A region of a source file: 1-based lines and columns, end column exclusive.
     ``file`` names the file when it is not the one being checked (an imported file)."""

@@ -1,6 +1,7 @@
-"""Running real campaigns of missions/pickup.mission: the same table serially, on a local
-cluster and on a scheduler and worker started as separate processes; jobs that raise or
-time out are recorded while the others complete; worlds are built once per process."""
+"""Running real campaigns of missions/pickup.mission: the same table serially, on worker
+processes of this machine and on a Dask scheduler and worker started as separate
+processes; jobs that raise or time out are recorded while the others complete; worlds
+are built once per process."""
 
 import dataclasses
 import functools
@@ -139,8 +140,8 @@ def test_serial_campaign_runs_the_real_mission(serial_table):
     assert len({r["pickup_point.x"] for r in rows}) == 3
 
 
-def test_local_cluster_gives_the_same_table(serial_table, pickup_campaign, tmp_path):
-    """Two local worker processes produce the serial table, wall times aside."""
+def test_local_workers_give_the_same_table(serial_table, pickup_campaign, tmp_path):
+    """Two worker processes of this machine produce the serial table, wall times aside."""
     output = tmp_path / "local.parquet"
     assert sweep_command(pickup_campaign, "--workers", 2, "--output", output) == 0
     assert comparable(read_results(output)).equals(comparable(serial_table))

@@ -136,3 +136,15 @@ def test_the_targets_are_markers_in_the_world(logged):
     tool = [m for m in markers if any(marker.ns == "left_tool/target" for marker in m)]
     assert tool and all(len([x for x in m if x.ns.startswith("left_tool/")]) == 6 for m in tool)
     assert all(marker.header.frame_id == "world" for m in markers for marker in m[1:])
+
+
+def test_a_log_that_cannot_start_says_why(tmp_path):
+    """The writing process's error comes back to the run's process before the run."""
+    from robocop_dsl.ecosystem.log_process import LogProcess, LogProcessError
+    from robocop_dsl.runtime.run_info import RunInfo
+
+    info = RunInfo(0.005, ["j"], {}, [], [], {}, {}, str(tmp_path / "nowhere.yaml"))
+    log = LogProcess(tmp_path / "log")
+    with pytest.raises(LogProcessError, match="did not start: .*cannot find world file"):
+        log.prepare(info, "batch")
+    log.close()

@@ -4,6 +4,7 @@ cycles); a headless one writes its backlog while the loop waits; cycles packed f
 writing process come back as they were."""
 
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -37,9 +38,10 @@ def test_a_real_time_writer_works_while_the_loop_sleeps():
     steps = []
     writer = WriterThread("test", lambda batch: (writer.turn(), steps.append(batch)), 4, DROP)
     writer.put(0)
-    writer.loop_sleeps(0.005, 0.006)            # a late cycle: no window
+    writer.loop_sleeps(time.perf_counter())     # a late loop: no window
+    writer.loop_sleeps(None)                    # a loop that does not sleep: none
     assert not steps
-    writer.loop_sleeps(10.0, 0.001)             # a long sleep
+    writer.loop_sleeps(time.perf_counter() + 60.0)
     writer.close()
     assert steps == [0]
 
@@ -99,10 +101,16 @@ class Topics:
 
 
 class Runner:
+    """Sleeps a minute after every cycle."""
+
     time_step = 0.005
 
     def __init__(self):
         self.reported = []
+
+    @property
+    def next_cycle_at(self):
+        return time.perf_counter() + 60.0
 
     def report(self, kind, data):
         self.reported.append((kind, data))

@@ -73,6 +73,12 @@ class Campaign:
     def path(self) -> Path:
         return self.spec.path
 
+    @property
+    def loads(self) -> tuple:
+        """The ``(mission path, world path)`` pairs its jobs run, each once, in job order:
+        what a worker loads before running them."""
+        return tuple(dict.fromkeys((job.mission, job.world) for job in self.jobs))
+
 
 def load_campaign(path: str | Path, load_mission=None) -> Campaign:
     """Read a campaign file, check it with all its missions and expand it into jobs.

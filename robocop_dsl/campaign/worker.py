@@ -1,15 +1,17 @@
-"""Running one job where it lands: in the sweeping process or in a Dask worker.
+"""Running one job where it lands: in the sweeping process or in a worker process.
 
 Each process keeps the worlds and missions it has built (:class:`WorkerCache`), so a
-world variant is built once per worker, never pickled; every run gets its own copy
-of the model from the runtime. Whatever happens in a job (an exception, a run past its
-budget) becomes a row of the results table, never an error of the campaign.
+world variant is built and a mission parsed, checked and compiled once per worker,
+never pickled; every run gets its own copy of the model from the runtime. Whatever
+happens in a job (an exception, a run past its budget) becomes a row of the results
+table, never an error of the campaign.
 """
 
 from __future__ import annotations
 
 import threading
 import time
+from collections import Counter
 from dataclasses import dataclass
 
 from ..world import load_world
@@ -24,8 +26,16 @@ that never returns (the budget is otherwise enforced at every cycle)."""
 class WorkerCache:
     """The worlds (by world file) and missions (by mission and world file) of a process.
 
+    What a job varies never changes a cached world or mission: the settings, the moved
+    bodies, the start posture and the physics go to the runner, which copies the model.
+    So the world file (the variant) and the mission file are the whole key.
+
     Args:
         load_mission: ``load_mission(path, world=None)``; the runtime's by default.
+
+    Attributes:
+        built: How many times each kind (``world``, ``mission``) was built, since the
+            cache was made or last cleared.
     """
 
     def __init__(self, load_mission=None):
@@ -33,6 +43,7 @@ class WorkerCache:
         self._lock = threading.RLock()
         self.worlds: dict = {}
         self.missions: dict = {}
+        self.built: Counter = Counter()
 
     def world(self, path: str):
         """The world of ``path``, built (with its kinematic model) on first use."""
@@ -41,6 +52,7 @@ class WorkerCache:
                 world = load_world(path)
                 world.model  # the kinematic model is built here, once per process
                 self.worlds[path] = world
+                self.built["world"] += 1
             return self.worlds[path]
 
     def mission(self, path: str, world_path: str):
@@ -52,10 +64,34 @@ class WorkerCache:
                 if load is None:
                     from ..runtime import load_mission as load
                 self.missions[key] = load(path, world=self.world(world_path))
+                self.built["mission"] += 1
             return self.missions[key]
+
+    def preload(self, pairs) -> None:
+        """Build the missions of ``(mission path, world path)`` pairs and their worlds
+        now; one that fails is left for its jobs, which record the error."""
+        for mission, world in pairs:
+            try:
+                self.mission(mission, world)
+            except Exception:
+                continue
+
+    def clear(self) -> None:
+        """Forget every world and mission (their files may have changed)."""
+        with self._lock:
+            self.worlds.clear()
+            self.missions.clear()
+            self.built.clear()
 
 
 PROCESS_CACHE = WorkerCache()
+
+
+def reload_process_cache(loads) -> None:
+    """Forget this process's worlds and missions, then load the ``(mission path, world
+    path)`` pairs ``loads``: a long-lived worker, before a sweep."""
+    PROCESS_CACHE.clear()
+    PROCESS_CACHE.preload(loads)
 
 
 @dataclass
@@ -84,6 +120,11 @@ def job_row(job) -> dict:
     return {"job": job.index, "mission": job.mission_name, "variant": job.variant,
             "sample": job.sample, "solver": job.setting("solver"),
             "hierarchy": job.setting("hierarchy"), "time_step": job.setting("time_step")}
+
+
+def failed_row(job, error: Exception) -> dict:
+    """The row of a job whose ``execute`` raised instead of returning a row."""
+    return {**job_row(job), "outcome": "error", "message": f"{type(error).__name__}: {error}"}
 
 
 def run_job(job, cache: WorkerCache = PROCESS_CACHE) -> dict:

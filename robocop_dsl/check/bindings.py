@@ -45,20 +45,20 @@ def substitute(ctx: CheckContext, node, bindings: dict[str, Binding]):
     """``node`` with every use of ``bindings`` replaced; problems are reported (a name in
     a vector that nothing binds among them)."""
     def visit(child):
-        if isinstance(child, ast.Reference):
+        kind = type(child)
+        if kind is ast.Reference:
             return _value(child, bindings)
-        if isinstance(child, ast.Variable):
+        if kind is ast.Variable:
             binding = bindings.get(child.name.text)
             if binding is not None and not isinstance(binding.value, (ast.Name,
                                                                       ast.Reference)):
                 return at(binding.value, child.span)
             return child
-        if isinstance(child, ast.Log):
+        if kind is ast.Log:
             return _log(child, bindings)
-        if isinstance(child, ast.Vector) and any(isinstance(v, ast.NameElement)
-                                                 for v in child.values):
+        if kind is ast.Vector and any(isinstance(v, ast.NameElement) for v in child.values):
             return resolve_vector(ctx, child, bindings)
-        fields = _NAME_FIELDS.get(type(child))
+        fields = _NAME_FIELDS.get(kind)
         if fields:
             return _renamed(child, fields, bindings)
         return child
@@ -67,7 +67,7 @@ def substitute(ctx: CheckContext, node, bindings: dict[str, Binding]):
 
 def _lists_axes(node) -> bool:
     """A parameter that lists the world's axes (``axes = [x, z]``): names, no constants."""
-    return isinstance(node, ast.Parameter) and node.name.text in AXES_PARAMETERS
+    return type(node) is ast.Parameter and node.name.text in AXES_PARAMETERS
 
 
 def _log(log: ast.Log, bindings: dict[str, Binding]) -> ast.Log:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Callable
 
 import networkx as nx
 
@@ -20,8 +21,17 @@ from .states import check_machine, check_machines
 from .variables import check_reads
 
 
+class Cancelled(Exception):
+    """A check stopped between two passes because its ``cancelled()`` turned true."""
+
+
+def _never() -> bool:
+    return False
+
+
 def check_mission(mission: ast.Mission, source: SourceFile, world=None,
-                  folder: Path | None = None) -> CheckContext:
+                  folder: Path | None = None,
+                  cancelled: Callable[[], bool] = _never) -> CheckContext:
     """Check names, types, parameters, units, targets, machines and actions.
 
     ``world`` is the loaded :class:`~robocop_dsl.world.World`, or ``None`` when it could
@@ -29,26 +39,32 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None,
     imports are looked up first. The returned context holds the diagnostics, the
     mission's symbols and its expanded tree (imports merged, constants bound, behaviour
     instances expanded), for :func:`check_graph` and the compiler.
+
+    Raises:
+        Cancelled: ``cancelled()`` was true between two passes (an editor's text
+            changed meanwhile: what this check would find is of no use).
     """
     ctx = CheckContext(source, world)
     merged = merge_imports(ctx, mission, folder)
     collect_symbols(ctx, merged)
     check_header(ctx, mission)
     check_controller(ctx, merged)
+    _stop_if(cancelled)
     expander = Expander(ctx, merged)
     expanded = expander.mission(merged)
     ctx.all_states = state_names(expanded.machine)
-    check_declarations(ctx, expanded)
-    check_joint_limits(ctx, expanded)
-    check_start_posture(ctx, expanded)
-    check_assignment(ctx, expanded)
-    check_driven(ctx, expanded)
-    check_machines(ctx, expanded)
+    _stop_if(cancelled)
+    passes = (check_declarations, check_joint_limits, check_start_posture,
+              check_assignment, check_driven, check_machines)
+    for check in passes:
+        check(ctx, expanded)
+        _stop_if(cancelled)
     check_reads(ctx, expanded.machine)
     check_regions(ctx, expanded.machine)
     base = ctx.generic
     ctx.variables = ctx.mission_variables
     for name, machine, generic in expander.unused_behaviors():
+        _stop_if(cancelled)
         ctx.generic = generic
         ctx.all_states = state_names(machine)
         check_machine(ctx, machine, ())
@@ -58,6 +74,11 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None,
     ctx.variables = {}
     ctx.expanded = expanded
     return ctx
+
+
+def _stop_if(cancelled: Callable[[], bool]) -> None:
+    if cancelled():
+        raise Cancelled()
 
 
 def state_names(machine: ast.Machine, owner: str | None = None,
@@ -73,12 +94,18 @@ def state_names(machine: ast.Machine, owner: str | None = None,
     return names
 
 
-def check_graph(ctx: CheckContext, mission: ast.Mission, graph: nx.DiGraph) -> None:
+def check_graph(ctx: CheckContext, mission: ast.Mission, graph: nx.DiGraph,
+                cancelled: Callable[[], bool] = _never) -> None:
     """Add the state-graph checks (reachability, shadowed clauses...) to ``ctx``, for
     the mission's machines and for the behaviours that no instance exposes; none when
-    an imported file has a syntax error (a dropped statement would distort the graph)."""
+    an imported file has a syntax error (a dropped statement would distort the graph).
+
+    Raises:
+        Cancelled: as :func:`check_mission`.
+    """
     if not ctx.imports_parsed:
         return
     check_state_graph(ctx, mission, graph)
     for name, machine in ctx.unused:
+        _stop_if(cancelled)
         check_behavior_graph(ctx, name, machine)

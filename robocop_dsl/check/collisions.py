@@ -1,7 +1,8 @@
 """Checks of ``collision_avoidance(A, B)`` declarations: two sets that name bodies or
 joint groups with collision geometry, an ``influence`` above ``min_distance``, and no
 pair already closer than ``min_distance`` in the world's initial posture (a warning
-with the distance)."""
+with the distance). What the geometry answers is kept between runs
+(:mod:`~robocop_dsl.world.collision_facts`)."""
 
 from __future__ import annotations
 
@@ -39,7 +40,7 @@ def check_collision_constraint(ctx: CheckContext, decl: ast.ConstraintDecl, kind
 def check_collision_set(ctx: CheckContext, argument: ast.Name) -> bool:
     """A body or joint group with collision geometry; ``False`` after reporting one that
     is not (``True`` for a behaviour's parameter, checked where it is bound)."""
-    from ..world.collisions import set_bodies
+    from ..world.collision_facts import collision_facts
 
     world = ctx.world
     if argument.text in ctx.generic:
@@ -48,7 +49,7 @@ def check_collision_set(ctx: CheckContext, argument: ast.Name) -> bool:
         ctx.unknown("unknown-body", "body or joint group", argument,
                     world.body_names() + world.joint_names())
         return False
-    if world.known and not set_bodies(world.world, argument.text):
+    if world.known and not collision_facts(world.world).set_bodies(argument.text):
         ctx.error("no-collision-geometry", f"'{argument.text}' has no collision geometry",
                   argument.span, "collision geometry comes from the URDFs' <collision> "
                   "elements; name a body or joint group that has some")
@@ -58,19 +59,13 @@ def check_collision_set(ctx: CheckContext, argument: ast.Name) -> bool:
 
 def _check_initial_posture(ctx: CheckContext, decl: ast.ConstraintDecl,
                            min_distance: float) -> None:
-    from ..control.kinematics import Kinematics
-    from ..world.collision_scene import CollisionScene
-    from ..world.collisions import checked_pairs
+    from ..world.collision_facts import collision_facts
 
-    world = ctx.world.world
     first, second = (argument.text for argument in decl.arguments)
-    scene = CollisionScene(world, checked_pairs(world, first, second))
-    kinematics = Kinematics(world)
-    kinematics.update(world.initial_configuration())
-    scene.place(kinematics)
-    for witness in scene.closest(min_distance):
-        ctx.warning("collision-at-start", f"'{witness.first.body}' and '{witness.second.body}' "
-                    f"are {_cm(witness.distance)} apart in the initial posture, closer than "
+    facts = collision_facts(ctx.world.world)
+    for body, other, distance in facts.closest_at_start(first, second, min_distance):
+        ctx.warning("collision-at-start", f"'{body}' and '{other}' "
+                    f"are {_cm(distance)} apart in the initial posture, closer than "
                     f"min_distance ({_cm(min_distance)})", decl.name.span,
                     "the constraint will push them apart from the first cycle; change the "
                     "world's initial posture, min_distance or allowed_collisions")

@@ -12,14 +12,18 @@ machine carries the notes naming the instances it is in.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import networkx as nx
 
-from ..compile.state_graph import MachineInfo, build_state_graph, machine_graph
 from ..lang import ast
 from .conditions import members_of, tasks_read
 from .context import CheckContext
 from .enabled import may_be_enabled
 from .expand import instance_note
+
+if TYPE_CHECKING:
+    from ..compile.state_graph import MachineInfo
 
 _NON_NEGATIVE = (ast.Elapsed, ast.Time, ast.Distance, ast.Member)
 """Measures that are never negative (a clearance, a `Distance` too, is negative when
@@ -41,6 +45,8 @@ def check_behavior_graph(ctx: CheckContext, name: ast.Name, machine: ast.Machine
     """The graph checks of a behaviour's machine checked on its own: its machines'
     reachability and finals, the outcomes its nested states leave unread, shadowed
     clauses."""
+    from ..compile.state_graph import build_state_graph
+
     wrapper = ast.StateDecl(name, regions=(ast.Region(None, machine=machine),),
                             span=name.span)
     root = ast.Machine((wrapper,))
@@ -89,6 +95,8 @@ def _machine_text(graph: nx.DiGraph, info: MachineInfo) -> str:
 
 def _check_machine(ctx: CheckContext, graph: nx.DiGraph, info: MachineInfo,
                    decls: dict, outcomes: bool = True) -> None:
+    from ..compile.state_graph import machine_graph
+
     start = info.start
     if start is None:
         return

@@ -61,12 +61,11 @@ def check_start_posture(ctx: CheckContext, mission: ast.Mission) -> None:
     world = ctx.world.world if ctx.world.known else None
     if world is None or declared is None:
         return
-    model, start = world.model, world.initial_configuration()
     for name in world.joint_names():
         info = world.joint(name)
         if info.type not in ("revolute", "prismatic"):
             continue
-        value = float(start[model.joints[model.getJointId(name)].idx_q])
+        value = float(world.initial_position(name)[0])
         low, high = float(info.lower[0]), float(info.upper[0])
         if low - 1e-9 <= value <= high + 1e-9:
             continue

@@ -10,23 +10,35 @@ from ..diagnostics import Span
 from ..lang import ast
 
 _CHILDREN: dict[type, tuple[str, ...]] = {}
+_FIELDS: dict[type, tuple[str, ...]] = {}
 
 
-def _children(kind: type) -> tuple[str, ...]:
+def child_fields(kind: type) -> tuple[str, ...]:
     """The fields of a node type that may hold nodes (every field but ``span``)."""
     names = _CHILDREN.get(kind)
     if names is None:
-        names = tuple(f.name for f in dataclasses.fields(kind) if f.name != "span")
+        names = tuple(name for name in _fields(kind) if name != "span")
         _CHILDREN[kind] = names
+    return names
+
+
+def _fields(kind: type) -> tuple[str, ...]:
+    """Every field of a node type, in the order its ``__init__`` sets them."""
+    names = _FIELDS.get(kind)
+    if names is None:
+        names = tuple(f.name for f in dataclasses.fields(kind))
+        _FIELDS[kind] = names
     return names
 
 
 def replace(node, **changes):
     """A copy of the frozen node ``node`` with ``changes`` (``dataclasses.replace``
-    without re-running ``__init__``: the fields are known to be valid)."""
+    without re-running ``__init__``: the fields are known to be valid). The fields are
+    set one by one, in ``__init__``'s order, so that the copy keeps them as compactly
+    as a node built the usual way (reading ``__dict__`` would give each node a dict)."""
     new = object.__new__(type(node))
-    new.__dict__.update(node.__dict__)
-    new.__dict__.update(changes)
+    for name in _fields(type(node)):
+        object.__setattr__(new, name, changes[name] if name in changes else getattr(node, name))
     return new
 
 
@@ -35,16 +47,21 @@ def rebuild(node, visit: Callable, keep: Callable | None = None):
     ``visit(node)`` on the node with its new children. Unchanged subtrees are kept, and
     so are the nodes for which ``keep(node)`` holds, unvisited."""
     if isinstance(node, tuple):
-        items = tuple(rebuild(item, visit, keep) for item in node)
-        return node if all(a is b for a, b in zip(items, node)) else items
+        items = [rebuild(item, visit, keep) for item in node]
+        for new, old in zip(items, node):
+            if new is not old:
+                return tuple(items)
+        return node
     if not isinstance(node, ast.Node) or (keep is not None and keep(node)):
         return node
-    changes = {}
-    for name in _children(type(node)):
+    changes = None
+    for name in child_fields(type(node)):
         value = getattr(node, name)
         if isinstance(value, (ast.Node, tuple)):
             new = rebuild(value, visit, keep)
             if new is not value:
+                if changes is None:
+                    changes = {}
                 changes[name] = new
     return visit(replace(node, **changes) if changes else node)
 

@@ -1,4 +1,8 @@
-"""``robocop-mission sweep CAMPAIGN.yaml``: run a campaign on Dask and tabulate it.
+"""``robocop-mission sweep CAMPAIGN.yaml``: run a campaign and tabulate it.
+
+The jobs run on worker processes of this machine (``--workers``), on the workers of a
+running Dask scheduler (``--scheduler``) or in this process (``--serial``); the
+workers start once and load the campaign's missions before the first job.
 
 Exit codes: 0 every job succeeded, 1 some job did not, 2 invalid campaign or mission
 (nothing ran) or no engine to run on, 130 interrupted (the finished jobs are written).
@@ -6,6 +10,7 @@ Exit codes: 0 every job succeeded, 1 some job did not, 2 invalid campaign or mis
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from contextlib import ExitStack
@@ -17,12 +22,13 @@ from ..diagnostics import DiagnosticError, render_all
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "sweep", help="run a campaign: missions x world variants x random conditions",
-        description="Check every mission of a campaign, run all its jobs headless on Dask "
-                    "and write one row per job to a Parquet table.")
+        description="Check every mission of a campaign, run all its jobs headless on "
+                    "worker processes and write one row per job to a Parquet table.")
     parser.add_argument("campaign", help="the campaign file (.campaign.yaml)")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N",
-                       help="worker processes of the local cluster (default: one per CPU)")
+                       help="worker processes on this machine (default: one per CPU; "
+                            "never more than jobs)")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on a running Dask scheduler, e.g. tcp://10.0.0.5:8786")
     where.add_argument("--serial", action="store_true",
@@ -35,7 +41,8 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..campaign import load_campaign, open_engine, results_table, sweep, write_results
+    from ..campaign import WorkerStartError, load_campaign, open_engine, results_table, \
+        sweep, write_results
     from rich.console import Console
 
     from ..campaign.summary import print_summary
@@ -49,15 +56,25 @@ def run(args) -> int:
     except DiagnosticError as error:
         print(render_all(error.diagnostics, args.format), file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        return 130
     console = Console(file=sys.stdout, highlight=False)
     output = Path(args.output or f"{campaign.name}.results.parquet")
     started = time.perf_counter()
     with ExitStack() as stack:
         try:
-            engine = stack.enter_context(open_engine(args.workers, args.scheduler, args.serial))
+            workers = min(args.workers or os.cpu_count() or 1, len(campaign.jobs))
+            engine = stack.enter_context(open_engine(workers, args.scheduler, args.serial,
+                                                     loads=campaign.loads))
         except OSError as error:
-            print(f"error: cannot reach the Dask scheduler: {error}", file=sys.stderr)
+            where = "reach the Dask scheduler" if args.scheduler else "start the workers"
+            print(f"error: cannot {where}: {error}", file=sys.stderr)
             return 2
+        except WorkerStartError as error:
+            print(f"error: {error}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            return 130
         console.print(f"{campaign.name}: {len(campaign.jobs)} jobs on {engine.description}")
         with SweepProgress(len(campaign.jobs)) as progress:
             rows, interrupted = sweep(campaign, engine, on_row=progress.update)

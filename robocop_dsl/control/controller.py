@@ -15,7 +15,7 @@ from .hierarchy import Hierarchy, Objective
 from .kinematics import Kinematics
 from .parameters import scalar_parameter
 from .results import ControlResult, Timings
-from .solvers import QuadraticProgram, make_solver
+from .solvers import QuadraticProgram, braking_solver, level_solvers, make_solver
 from .state import ControlState, resolve_group
 from .tasks import TASKS, Task
 from ..safety.braking import BrakingProgram
@@ -45,6 +45,9 @@ class _Plan:
     braking: BrakingProgram
     hard: tuple[np.ndarray, np.ndarray]
     """The cycle's box before the acceleration limits [rad/s or m/s]."""
+    weights: list
+    """Each task's weight array last written into the QP (rewritten when the task's
+    weight is another array)."""
 
 
 class Controller:
@@ -60,7 +63,9 @@ class Controller:
         world: The world (its ``model``, bodies and joint groups).
         joint_group: The controlled joint group; the command has one entry per joint.
         time_step: Control period [s].
-        solver: A qpsolvers backend name; ``"proxqp"`` is reused and warm-started.
+        solver: ``"auto"`` (one backend per QP, see
+            :mod:`robocop_dsl.control.solvers.choice`), ``"daqp"``, ``"proxqp"`` (both
+            reused and warm-started) or a qpsolvers backend name.
         hierarchy: ``"strict"`` (one QP per priority level, see
             :mod:`robocop_dsl.control.hierarchy`) or ``"weighted"`` (one QP, weights).
         damping: Weight of ``|dq|^2`` in every QP [-], keeps them strictly convex.
@@ -76,7 +81,7 @@ class Controller:
         InvalidParameter: invalid time step, hierarchy or damping.
     """
 
-    def __init__(self, world, joint_group: str, time_step: float, solver: str = "proxqp",
+    def __init__(self, world, joint_group: str, time_step: float, solver: str = "auto",
                  hierarchy: str = "strict", *,
                  damping: float = option_default("qp_controller", "damping"),
                  lm_damping: float = option_default("qp_controller", "lm_damping"),
@@ -271,7 +276,8 @@ class Controller:
         jacobian, velocity, weight = hierarchy.jacobian, hierarchy.velocity, hierarchy.weight
         after_kinematics = time.perf_counter()
         objectives = []
-        squared_errors = hierarchy.squared_errors
+        squared_errors = hierarchy.squared_errors if self.lm_damping else None
+        weights = plan.weights
         for index, (task, rows) in enumerate(plan.tasks):
             if not task.target_is_finite():
                 reason = _unbounded_reference(plan.tasks, objectives)
@@ -280,8 +286,10 @@ class Controller:
             task_weight = task.weight
             jacobian[rows] = task_jacobian
             velocity[rows] = task_velocity
-            weight[rows] = task_weight
-            if task.positional:
+            if task_weight is not weights[index]:
+                weights[index] = task_weight
+                weight[rows] = task_weight[:, None]
+            if squared_errors is not None and task.positional:
                 error = task.tracking_error
                 squared_errors[index] = error.dot(error * task_weight)
             objectives.append(Objective(task.name, task_jacobian, task_velocity, task_weight))
@@ -362,7 +370,9 @@ class Controller:
                 count += constraint.rows
         hierarchy = Hierarchy(levels, [task.name for task in tasks],
                               [task.dimension for task in tasks], self.state.dofs, count,
-                              [make_solver(self.solver) for _ in levels], self.damping,
+                              level_solvers(self.solver, [[tasks[index].dimension for index in
+                                                           indices] for _, indices in levels],
+                                            self.state.dofs), self.damping,
                               self.lm_damping)
         rows = [(constraint, hierarchy.C[span], hierarchy.l[span], hierarchy.u[span])
                 for constraint, span in spans]
@@ -372,8 +382,9 @@ class Controller:
                      [(task, hierarchy.task_rows(index)) for index, task in enumerate(tasks)],
                      hierarchy, first, [c for c in boxes if c is not first], rows, limits,
                      JointBox(limits, self.time_step), groups,
-                     BrakingProgram(hierarchy, make_solver(self.solver, warm_start=False)),
-                     (np.zeros(self.state.dofs), np.zeros(self.state.dofs)))
+                     BrakingProgram(hierarchy, braking_solver(self.solver)),
+                     (np.zeros(self.state.dofs), np.zeros(self.state.dofs)),
+                     [None] * len(tasks))
         self._cached_plan = plan
         return plan
 

@@ -25,6 +25,7 @@ rows and bounds, and one :class:`QuadraticProgram` per level over those buffers.
 from __future__ import annotations
 
 import math
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -56,7 +57,8 @@ class _Level(NamedTuple):
     weight: np.ndarray
     weighted_rows: np.ndarray
     weighted: np.ndarray
-    regularisation: np.ndarray
+    diagonal: np.ndarray
+    """A view of the diagonal of the level's Hessian."""
     program: QuadraticProgram
     solver: QPSolver
 
@@ -88,7 +90,9 @@ class Hierarchy:
         total = sum(dimensions)
         self.jacobian = np.zeros((total, dofs))
         self.velocity = np.zeros(total)
-        self.weight = np.zeros(total)
+        self.weight = np.zeros((total, dofs))
+        """Each task row's weight, repeated along the row (multiplying two arrays of
+        one shape is cheaper than broadcasting a column)."""
         self.lower = np.full(dofs, -np.inf)
         self.upper = np.full(dofs, np.inf)
         self.C = np.zeros((constraint_rows, dofs))
@@ -102,10 +106,7 @@ class Hierarchy:
             for index in tasks:
                 self._rows[index] = slice(end, end + dimensions[index])
                 end += dimensions[index]
-            if tasks:
-                hessian, regularisation = np.zeros((dofs, dofs)), np.eye(dofs) * damping
-            else:
-                hessian, regularisation = np.eye(dofs), np.zeros((dofs, dofs))
+            hessian = np.zeros((dofs, dofs)) if tasks else np.eye(dofs)
             program = QuadraticProgram(hessian, np.zeros(dofs), self.jacobian[:start],
                                        np.zeros(start), self.C, self.l, self.u, self.lower,
                                        self.upper)
@@ -113,12 +114,13 @@ class Hierarchy:
             self._levels.append(_Level(
                 priority, list(tasks), tuple(names[index] for index in tasks),
                 self.jacobian[start:end], self.velocity[start:end],
-                self.weight[start:end, None], weighted_rows, weighted_rows.T, regularisation,
-                program, solver))
+                self.weight[start:end], weighted_rows, weighted_rows.T,
+                hessian.reshape(-1)[::dofs + 1], program, solver))
             start = end
-        self.squared_errors = np.zeros(len(dimensions))
+        self.squared_errors = [0.0] * len(dimensions)
         """Each task's weighted squared tracking error ``w |e|^2``, by index, written by
         the controller every cycle (0 for velocity tasks)."""
+        self._damping = damping
         self._lm_damping = lm_damping
         self.problems = [level.program for level in self._levels]
         """The QP of each level, overwritten by every cycle."""
@@ -142,38 +144,50 @@ class Hierarchy:
 
         Returns:
             ``(command, level_results, problems)``: ``problems`` are the QPs that were
-            solved; ``command`` is ``None`` when the first level has no solution.
+            solved; ``command`` is ``None`` when the first level has no solution;
+            ``level_results`` builds the :class:`LevelResult` of every level when
+            called (``()`` without a command).
         """
         command = None
         statuses: list[tuple[bool, str]] = []
+        squared_errors, lm_damping = self.squared_errors, self._lm_damping
         for level in self._levels:
             program = level.program
             if level.tasks:
-                weighted = level.weighted
+                weighted, diagonal = level.weighted, level.diagonal
                 np.multiply(level.jacobian, level.weight, out=level.weighted_rows)
                 weighted.dot(level.jacobian, out=program.H)
-                np.add(program.H, level.regularisation, out=program.H)
+                damping = self._damping
+                if lm_damping:
+                    damping += lm_damping * sum([squared_errors[index]
+                                                 for index in level.tasks])
+                np.add(diagonal, damping, out=diagonal)
                 weighted.dot(level.velocity, out=program.g)
-                if self._lm_damping:
-                    program.H.flat[::program.H.shape[0] + 1] += self._lm_damping * sum(
-                        self.squared_errors[index] for index in level.tasks)
                 np.negative(program.g, out=program.g)
             if command is not None:
                 program.A.dot(command, out=program.b)
             solver = level.solver
             solution = solver.solve(program)
-            solved = solution.found and math.isfinite(solution.x.dot(solution.x))
+            x = solution.x
+            solved = solution.found and math.isfinite(x.dot(x))
             if solved and not solver.guarantees_tolerance:
-                solved = program.violation(solution.x) <= FEASIBILITY_TOLERANCE
+                solved = program.violation(x) <= FEASIBILITY_TOLERANCE
             statuses.append((solved, solution.status))
             if not solved:
                 break
-            command = solution.x
-        problems = self.problems[:len(statuses)]
+            command = x
+        count = len(statuses)
+        problems = self.problems[:count]
         if command is None:
             return None, (), problems
-        statuses += self._not_run[len(statuses):]
-        return command, tuple([
-            LevelResult(level.priority, level.names, solved, status,
-                        tuple([objectives[index] for index in level.tasks]), command)
-            for level, (solved, status) in zip(self._levels, statuses)]), problems
+        return command, partial(self._results, statuses, objectives, command), problems
+
+    def _results(self, statuses: list[tuple[bool, str]], objectives: list[Objective],
+                 command: np.ndarray) -> tuple[LevelResult, ...]:
+        """The :class:`LevelResult` of every level, from the ``(solved, status)`` of
+        those that ran."""
+        statuses = statuses + self._not_run[len(statuses):]
+        return tuple([LevelResult(level.priority, level.names, solved, status,
+                                  tuple([objectives[index] for index in level.tasks]),
+                                  command)
+                      for level, (solved, status) in zip(self._levels, statuses)])

@@ -50,7 +50,6 @@ class Timings:
     total: float = 0.0
 
 
-@dataclass(slots=True)
 class ControlResult:
     """The command of one cycle (treat as read-only).
 
@@ -58,7 +57,8 @@ class ControlResult:
         velocity: Joint-velocity command of the controlled group [rad/s or m/s], in the
             group's joint order, never NaN; zeros when no command was found.
         solved: Whether the hierarchy's command satisfies every enabled constraint.
-        levels: Per priority level results, highest priority first.
+        levels: Per priority level results, highest priority first (built on first
+            access when the controller passes a function that builds them).
         timings: Where the time went.
         reason: Why no command was found (``status == "no_solution"``), else ``None``.
         relaxations: The constraints relaxed this cycle
@@ -69,13 +69,27 @@ class ControlResult:
             that leave a joint no position: a zero command).
     """
 
-    velocity: np.ndarray
-    solved: bool
-    levels: tuple[LevelResult, ...] = ()
-    timings: Timings = field(default_factory=Timings)
-    reason: str | None = None
-    relaxations: tuple = ()
-    status: str = "solved"
+    __slots__ = ("velocity", "solved", "_levels", "timings", "reason", "relaxations",
+                 "status")
+
+    def __init__(self, velocity: np.ndarray, solved: bool, levels=(),
+                 timings: Timings | None = None, reason: str | None = None,
+                 relaxations: tuple = (), status: str = "solved"):
+        self.velocity = velocity
+        self.solved = solved
+        self._levels = levels
+        self.timings = Timings() if timings is None else timings
+        self.reason = reason
+        self.relaxations = relaxations
+        self.status = status
+
+    @property
+    def levels(self) -> tuple[LevelResult, ...]:
+        """Per priority level results, highest priority first."""
+        levels = self._levels
+        if callable(levels):
+            levels = self._levels = levels()
+        return levels
 
     @property
     def failed(self) -> bool:

@@ -81,7 +81,7 @@ def _same_value(first, second) -> bool:
 
 def skew(vector: np.ndarray) -> np.ndarray:
     """The 3x3 matrix of ``vector x .``."""
-    x, y, z = vector
+    x, y, z = np.asarray(vector, dtype=float).tolist()
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 

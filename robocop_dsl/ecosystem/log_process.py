@@ -78,7 +78,7 @@ class LogProcess(Observer):
             with contextlib.suppress(OSError):
                 fcntl.fcntl(self._process.stdin.fileno(), fcntl.F_SETPIPE_SZ, PIPE_SIZE)
         self._policy: str | None = None
-        self._time_step = 0.0
+        self._runner = None
         self._items: list = []
         self._next = PERIOD
         self._sender: WriterThread | None = None
@@ -97,9 +97,12 @@ class LogProcess(Observer):
             LogProcessError: the process could not start writing.
         """
         info = RunInfo.of(runner)
-        self._report, self._policy, self._time_step = info.report, policy, info.time_step
-        _send(self._process.stdin, ("start", self.folder, info.portable()))
-        reply = _receive(self._process.stdout)
+        self._report, self._policy = info.report, policy
+        try:
+            _send(self._process.stdin, ("start", self.folder, info.portable()))
+            reply = _receive(self._process.stdout)
+        except OSError:                 # it died before reading: its error is on stderr
+            reply = None
         if reply is None or reply[0] != "ready":
             self._process.wait()
             raise LogProcessError("the log's writing process did not start" +
@@ -108,6 +111,7 @@ class LogProcess(Observer):
     def on_start(self, runner) -> None:
         if self._policy is None:
             self.prepare(runner, BATCH)
+        self._runner = runner
         self._sender = WriterThread("run log sender", self._send,
                                     max(2, round(BACKLOG / PERIOD)), self._policy)
 
@@ -123,7 +127,7 @@ class LogProcess(Observer):
             self._next = record.time + PERIOD
             self._hand_over()
         if self._sender is not None:
-            self._sender.loop_sleeps(self._time_step, record.cycle_time)
+            self._sender.loop_sleeps(getattr(self._runner, "next_cycle_at", None))
 
     def on_event(self, event: Event) -> None:
         self._items.append(event)

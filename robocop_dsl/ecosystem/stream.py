@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from ..runtime.log import dropped_event, event_json
 from ..runtime.records import CycleRecord, Observer
-from ..runtime.writer_thread import WriterThread
+from ..runtime.writer_thread import DROP, WriterThread
 from .topics import RunTopics
 
 MCAP_PERIOD = 1.0
@@ -18,8 +18,10 @@ LIVE_PERIOD = 0.04
 MCAP_TF_PERIOD = 0.02
 """Mission time [s] between two ``/tf`` messages of ``run.mcap``: 50 per second."""
 STEP = 10
-"""Cycles made into messages at a time, between two turns given to the loop (see
-:meth:`~robocop_dsl.runtime.writer_thread.WriterThread.turn`)."""
+"""Cycles made into messages at a time by a ``drop`` writer, between two turns given to
+the loop (see :meth:`~robocop_dsl.runtime.writer_thread.WriterThread.turn`); the other
+policies make a whole hand-over at once (the messages of many cycles cost little more
+than those of one)."""
 BACKLOG = 4.0
 """Mission time [s] of cycles waiting for a writer at most (see
 :mod:`~robocop_dsl.runtime.writer_thread`)."""
@@ -55,7 +57,7 @@ class TopicStream(Observer):
         self._items: list = []
         self._next = period
         self._writer: WriterThread | None = None
-        self._time_step = 0.0
+        self._runner = None
         self._report = None
         self.dropped = 0
 
@@ -63,7 +65,7 @@ class TopicStream(Observer):
         """Send the opening messages, start the writer. ``runner``: the run, or its
         :class:`~robocop_dsl.runtime.run_info.RunInfo`."""
         self._report = getattr(runner, "report", None)
-        self._time_step = runner.time_step
+        self._runner = runner
         self.sink.write(self.topics.opening())
         self.sink.checkpoint()
         backlog = max(2, round(BACKLOG / self.period))
@@ -75,7 +77,7 @@ class TopicStream(Observer):
             self._next = record.time + self.period
             self._hand_over()
         if self._writer is not None:
-            self._writer.loop_sleeps(self._time_step, record.cycle_time)
+            self._writer.loop_sleeps(getattr(self._runner, "next_cycle_at", None))
 
     def on_event(self, event) -> None:
         self._items.append(event_json(event))
@@ -103,13 +105,14 @@ class TopicStream(Observer):
 
     def _write(self, items: list) -> None:
         """In the writer thread: the messages of a hand-over, in time order, made
-        :data:`STEP` cycles at a time."""
+        :data:`STEP` cycles at a time by a ``drop`` writer, all at once by the others."""
+        step = STEP if self._policy == DROP else len(items)
         messages: list = []
         records: list = []
         for item in items + [None]:
             if isinstance(item, CycleRecord):
                 records.append(item)
-                if len(records) < STEP:
+                if len(records) < step:
                     continue
             if records:
                 self._writer.turn()

@@ -10,8 +10,8 @@ from __future__ import annotations
 import dataclasses
 import functools
 import hashlib
-import os
-import stat
+import sys
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -21,7 +21,7 @@ from lark.exceptions import LarkError, VisitError
 from lark.lark import PostLex
 
 from ..diagnostics import Diagnostic, SourceFile, Span
-from ..resources import GRAMMAR_DIR
+from ..resources import GRAMMAR_DIR, private_cache_file
 from ..sources import MISSION, read_source
 from . import ast
 from .syntax_errors import (RESERVED, UNCLOSED, Recovery, closed_by_layout,
@@ -33,6 +33,8 @@ from .transformer import MissionBuilder
 MAX_NESTING = 64
 _BREAKABLE_AFTER = ("COMMA", "LPAR", "LSQB")
 _OPERATORS = ("AND", "OR", "NOT")
+_PLACE = threading.local()
+"""``lines``: how many lines come before the text this thread parses now."""
 
 
 class StatementBreaks(PostLex):
@@ -49,7 +51,11 @@ class StatementBreaks(PostLex):
     def process(self, stream):
         brackets = 0
         last: Token | None = None
+        lines_before = getattr(_PLACE, "lines", 0)
         for token in stream:
+            if lines_before:
+                token.line += lines_before
+                token.end_line += lines_before
             if token.type in ("NAME", "UNIT") and token.value in RESERVED:
                 token = Token.new_borrow_pos(token.value.upper(), token.value, token)
             if token.type == "_NL":
@@ -73,38 +79,28 @@ class StatementBreaks(PostLex):
 
 @functools.lru_cache(maxsize=None)
 def mission_grammar() -> Lark:
-    """The mission parser, built once from ``mission.lark``. The built tables are kept
-    for the next process only in the user's private cache folder (:func:`private_cache`):
-    lark unpickles its cache file, so a file others can write would run their code."""
-    text = (GRAMMAR_DIR / "mission.lark").read_text(encoding="utf-8")
-    return Lark(text, parser="lalr", lexer="contextual", propagate_positions=True,
+    """The mission parser, built once from ``mission.lark`` (see :func:`build_parser`)."""
+    return build_parser((GRAMMAR_DIR / "mission.lark").read_text(encoding="utf-8"))
+
+
+def build_parser(grammar: str) -> Lark:
+    """A parser of the grammar text ``grammar``. Its tables are kept for the next
+    process only in the user's private cache folder (:func:`private_cache`), in a file
+    named after the grammar's text: a changed grammar never meets old tables. Lark
+    unpickles its cache file, so a file others can write would run their code; a
+    folder that cannot be written only costs building the tables each time."""
+    return Lark(grammar, parser="lalr", lexer="contextual", propagate_positions=True,
                 postlex=StatementBreaks(), import_paths=[GRAMMAR_DIR],
-                cache=private_cache(text))
+                cache=private_cache(grammar))
 
 
 def private_cache(grammar: str) -> str | bool:
-    """The parser cache file in ``$XDG_CACHE_HOME/robocop-mission`` (``~/.cache``), or
-    ``False`` (no cache) unless that folder and the file are the user's own and no one
-    else may write to them."""
-    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    folder = os.path.join(root, "robocop-mission")
-    digest = hashlib.sha256(f"{grammar}{lark.__version__}".encode()).hexdigest()[:24]
-    path = os.path.join(folder, f"mission-grammar-{digest}.lark")
-    try:
-        os.makedirs(folder, mode=0o700, exist_ok=True)
-        if not _private(os.stat(folder)):
-            return False
-        if os.path.lexists(path) and not _private(os.lstat(path)):
-            return False
-    except OSError:
-        return False
-    return path
-
-
-def _private(info: os.stat_result) -> bool:
-    """A folder or a regular file owned by this user that no one else may write to."""
-    kind = stat.S_ISDIR(info.st_mode) or stat.S_ISREG(info.st_mode)
-    return kind and info.st_uid == os.getuid() and not info.st_mode & 0o022
+    """The parser cache file for ``grammar`` in the user's private cache folder
+    (:func:`~robocop_dsl.resources.private_cache_file`), named after the grammar's text,
+    lark's version and Python's, or ``False`` (no cache) when that folder is not private."""
+    key = f"{grammar}{lark.__version__}{sys.version_info[:2]}"
+    digest = hashlib.sha256(key.encode()).hexdigest()[:24]
+    return private_cache_file(f"mission-grammar-{digest}.lark") or False
 
 
 @dataclass(frozen=True)
@@ -120,9 +116,21 @@ class ParseResult:
         return not any(d.is_error for d in self.diagnostics)
 
 
-def parse_mission(text: str, path: str | Path = "<mission>") -> ParseResult:
+def parse_mission(text: str, path: str | Path = "<mission>",
+                  first_line: int = 1) -> ParseResult:
     """Parse mission ``text``; never raises on bad input, diagnostics say what is wrong
-    (in the order of their places)."""
+    (in the order of their places). ``text`` is the part of the file at ``path`` that
+    begins on line ``first_line``: spans and diagnostics name the file's lines."""
+    if first_line > 1:
+        _PLACE.lines = first_line - 1
+        try:
+            placed = parse_mission(text, path)
+        finally:
+            _PLACE.lines = 0
+        if not placed.diagnostics:
+            return placed
+        padded = parse_mission("\n" * (first_line - 1) + text, path)
+        return dataclasses.replace(padded, source=placed.source)
     source = SourceFile(str(path), text)
     mission, diagnostics, unclosed = _parse(text, source)
     if unclosed:

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-from lark import Token, Transformer, v_args
+import sys
+
+from lark import Token, Tree
+from lark.exceptions import VisitError
 
 from ..diagnostics import Span
 from . import ast
@@ -15,6 +18,8 @@ def token_span(token: Token) -> Span:
 
 def _code_end(line: str) -> int:
     """Length of ``line`` without a trailing comment and trailing blanks."""
+    if "#" not in line:
+        return len(line.rstrip())
     quoted = False
     for index, char in enumerate(line):
         if char == '"' and (index == 0 or line[index - 1] != "\\"):
@@ -43,7 +48,8 @@ def trimmed_span(text: str, meta) -> Span:
 
 
 def _name(token: Token) -> ast.Name:
-    return ast.Name(str(token), span=token_span(token))
+    """A name; its text is interned: a mission repeats its names many times."""
+    return ast.Name(sys.intern(str(token)), span=token_span(token))
 
 
 def _number(token: Token) -> float:
@@ -91,13 +97,25 @@ def _inline_region(items: tuple) -> ast.Region:
     return ast.Region(None, machine=ast.Machine(items, span=span), span=span)
 
 
-@v_args(meta=True)
-class MissionBuilder(Transformer):
-    """Turn a lark tree of ``mission.lark`` for ``text`` into :class:`ast.Mission`."""
+class MissionBuilder:
+    """Turn a lark tree of ``mission.lark`` for ``text`` into :class:`ast.Mission`: each
+    rule's method gets the rule's positions (lark's ``meta``) and its children, built
+    first; a rule without one stays a lark tree. An exception raised by a method comes
+    out as lark's :class:`~lark.exceptions.VisitError`, as from a lark transformer."""
 
     def __init__(self, text: str):
-        super().__init__()
         self._text = text
+
+    def transform(self, tree: Tree):
+        """The syntax tree built from ``tree``."""
+        children = [self.transform(c) if isinstance(c, Tree) else c for c in tree.children]
+        build = getattr(self, tree.data, None)
+        if build is None:
+            return Tree(tree.data, children, tree.meta)
+        try:
+            return build(tree.meta, children)
+        except Exception as error:
+            raise VisitError(tree.data, tree, error) from error
 
     def _span(self, meta) -> Span:
         return trimmed_span(self._text, meta)

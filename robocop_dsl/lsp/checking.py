@@ -1,7 +1,7 @@
 """Checking a mission as ``robocop-mission check`` does, on the server's own parse of
 it: the world through the server's store, the files it imports as the editor has them
 (an open document's unsaved text, else the disk), and no compilation. A check that
-the text has outrun stops between its stages."""
+the text has outrun stops at the next boundary between the checker's passes."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from typing import Callable
 
 from ..compile import build_state_graph  # first: it imports the checker
 from ..compile.load import _world_of
-from ..check import check_graph, check_mission  # noqa: I001
+from ..check import Cancelled, check_graph, check_mission  # noqa: I001
 from ..check import imports as checked_imports
 from ..diagnostics import Diagnostic, SourceFile, sort_key, unique
 from ..sources import read_source
@@ -41,16 +41,20 @@ def unsaved_imports(texts: dict[Path, str]):
 def check(project: Project, parsed: Parsed, stale: Callable[[], bool] = lambda: False
           ) -> list[Diagnostic] | None:
     """Every diagnostic of the mission ``parsed``, sorted as ``check`` sorts them;
-    ``None`` when ``stale()`` says the text changed before the check was over."""
+    ``None`` when ``stale()`` says the text changed before the check was over (asked
+    between the checker's passes)."""
     source, tree = parsed.result.source, parsed.tree
     with COLLECTOR.paused(), unsaved_imports(dict(project.open)):
         _, world, loading = _world_of(tree, source, project.worlds)
         if stale():
             return None
-        ctx = check_mission(tree, source, world, parsed.path.parent)
-        if stale():
+        try:
+            ctx = check_mission(tree, source, world, parsed.path.parent, stale)
+            if stale():
+                return None
+            if parsed.result.ok:
+                check_graph(ctx, ctx.expanded, build_state_graph(ctx.expanded), stale)
+        except Cancelled:
             return None
-        if parsed.result.ok:
-            check_graph(ctx, ctx.expanded, build_state_graph(ctx.expanded))
     found = unique([*parsed.result.diagnostics, *loading, *ctx.diagnostics])
     return sorted(found, key=lambda d: (d.file != source.path, *sort_key(d)))

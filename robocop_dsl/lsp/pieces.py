@@ -5,16 +5,19 @@ The text is cut before a top-level statement that begins a line outside every bl
 (one that ends with ``,``, ``(``, ``[``, ``and``, ``or`` or ``not``), into pieces of at
 least :data:`PIECE_LINES` lines. Each piece is parsed on its own and kept by its text;
 the mission is the pieces' items in order, with the spans they have in the whole text:
-the tree :func:`~robocop_dsl.lang.parse_mission` gives for the whole text. A piece with
-syntax errors is parsed where it stands in the file, so that the lines its diagnostics
-name are the file's.
+the tree :func:`~robocop_dsl.lang.parse_mission` gives for the whole text. Each piece is
+parsed where it stands in the file, so that the lines its spans and diagnostics name
+are the file's.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import re
+from typing import Callable
 
+from ..check import Cancelled
+from ..check.rewrite import child_fields, replace
 from ..diagnostics import SourceFile, Span
 from ..lang import ParseResult, ast, parse_mission
 from ..lang.syntax_errors import CONTINUED, code_of
@@ -48,41 +51,14 @@ def _shift(span: Span, lines: int) -> Span:
                 span.file)
 
 
-def _shift_in_place(tree: ast.Mission, lines: int) -> None:
-    """Move every span of a tree that nothing else holds yet down by ``lines``."""
-    seen: set[int] = set()
-    waiting: list = [tree]
-    while waiting:
-        node = waiting.pop()
-        if isinstance(node, tuple):
-            waiting += node
-        elif isinstance(node, ast.Node) and id(node) not in seen:
-            seen.add(id(node))
-            object.__setattr__(node, "span", _shift(node.span, lines))
-            waiting += [v for v in node.__dict__.values() if isinstance(v, (ast.Node, tuple))]
-
-
 def _moved(node, lines: int):
     """A copy of ``node`` with every span moved down by ``lines``."""
     if isinstance(node, tuple):
         return tuple(_moved(item, lines) for item in node)
     if not isinstance(node, ast.Node):
         return node
-    copy = object.__new__(type(node))
-    copy.__dict__.update({key: _moved(value, lines) for key, value in node.__dict__.items()})
-    copy.__dict__["span"] = _shift(node.span, lines)
-    return copy
-
-
-def _parse_piece(first: int, text: str, path: str) -> ParseResult:
-    """``text`` parsed as the piece of the file that starts on line ``first``."""
-    result = parse_mission(text, path)
-    if first == 1:
-        return result
-    if result.diagnostics:
-        return parse_mission("\n" * (first - 1) + text, path)
-    _shift_in_place(result.mission, first - 1)
-    return result
+    changes = {name: _moved(getattr(node, name), lines) for name in child_fields(type(node))}
+    return replace(node, span=_shift(node.span, lines), **changes)
 
 
 class PieceCache:
@@ -91,13 +67,22 @@ class PieceCache:
     def __init__(self):
         self._known: dict[str, tuple[int, ParseResult]] = {}
 
-    def parse(self, text: str, path: str) -> ParseResult:
+    def parse(self, text: str, path: str,
+              cancelled: Callable[[], bool] = lambda: False) -> ParseResult:
         """The parse of ``text``: its pieces parsed anew where their text changed, moved
-        where only their place did."""
+        where only their place did.
+
+        Raises:
+            Cancelled: ``cancelled()`` was true before a piece was parsed (the pieces
+                parsed so far are kept for the next parse).
+        """
         known, kept = self._known, {}
         items: list = []
         found: list = []
         for first, piece in pieces(text):
+            if piece not in known and cancelled():
+                self._known = {**known, **kept}
+                raise Cancelled()
             result = self._piece(known.get(piece), first, piece, path)
             kept[piece] = (first, result)
             items += result.mission.items
@@ -111,7 +96,7 @@ class PieceCache:
     def _piece(known: tuple[int, ParseResult] | None, first: int, piece: str,
                path: str) -> ParseResult:
         if known is None or (known[0] != first and known[1].diagnostics):
-            return _parse_piece(first, piece, path)
+            return parse_mission(piece, path, first)
         at, result = known
         if at == first:
             return result

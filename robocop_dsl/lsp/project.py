@@ -12,6 +12,7 @@ from collections import defaultdict
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import Callable
 
 from ..diagnostics import SourceFile
 from ..lang import ParseResult, ast
@@ -111,14 +112,20 @@ class Project:
         text = self.text(path)
         return None if text is None else self.parse(path, text)
 
-    def parse(self, path: Path, text: str) -> Parsed:
+    def parse(self, path: Path, text: str,
+              cancelled: Callable[[], bool] = lambda: False) -> Parsed:
         """The parse of ``text`` as the content of ``path``: only the pieces that
-        changed since the last parse of ``path`` are parsed again."""
+        changed since the last parse of ``path`` are parsed again.
+
+        Raises:
+            Cancelled: ``cancelled()`` was true between two pieces.
+        """
         with self._lock(path):
             known = self._parsed.get(path)
             if known is None or known.text != text:
                 with COLLECTOR.paused():
-                    known = Parsed(path, text, self._pieces[path].parse(text, str(path)))
+                    known = Parsed(path, text, self._pieces[path].parse(text, str(path),
+                                                                        cancelled))
                 self._parsed[path] = known
             return known
 

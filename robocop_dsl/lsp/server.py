@@ -26,6 +26,7 @@ from pygls.io_ import StdoutWriter, run_async
 from pygls.lsp.server import LanguageServer
 
 from .. import __version__
+from ..check import Cancelled
 from . import (checking, completion, diagnostics, folding, formatting, hover, navigation,
                semantic_tokens, signatures, symbols)
 from .changes import Texts
@@ -116,7 +117,10 @@ class MissionServer(LanguageServer):
     def check(self, path: Path, text: str, stale: Callable[[], bool]):
         """On the checking thread: the protocol diagnostics of ``text`` as the content
         of ``path``, ``None`` when ``stale()`` turns true first."""
-        parsed = self.project.parse(path, text)
+        try:
+            parsed = self.project.parse(path, text, stale)
+        except Cancelled:
+            return None
         found = None if stale() else checking.check(self.project, parsed, stale)
         if found is None:
             return None

@@ -81,7 +81,7 @@ class RunLogger(Observer):
         self._events = open(self.folder / EVENTS, "w", encoding="utf-8")
         self._batch: list[CycleRecord] = []
         self._rows = DEFAULT_ROWS
-        self._time_step = 0.0
+        self._runner = None
         self._tasks: dict | None = None
         self._units: dict = {}
         self._kinds: dict = {}
@@ -102,7 +102,7 @@ class RunLogger(Observer):
         schema and start the writer. ``runner``: the run, or its
         :class:`~robocop_dsl.runtime.run_info.RunInfo`."""
         info = RunInfo.of(runner)
-        self._time_step = info.time_step
+        self._runner = runner
         self._rows = max(1, round(GROUP_DURATION / info.time_step))
         self._tasks = {name: task.width for name, task in info.tasks.items()}
         self._units = {name: task.unit for name, task in info.tasks.items()}
@@ -120,7 +120,7 @@ class RunLogger(Observer):
         if len(self._batch) >= self._rows:
             self._hand_over()
         if self._writer is not None:
-            self._writer.loop_sleeps(self._time_step, record.cycle_time)
+            self._writer.loop_sleeps(getattr(self._runner, "next_cycle_at", None))
 
     def on_event(self, event: Event) -> None:
         self._events.write(event_json(event) + "\n")

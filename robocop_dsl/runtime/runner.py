@@ -88,6 +88,7 @@ class Runner:
         """The safety layer's part of the run (:mod:`robocop_dsl.safety.guard`)."""
         self._last_command = np.zeros(len(self.joint_names))
         self._result: RunResult | None = None
+        self._clock_start: float | None = None
         self._broken: set = set()
         self._attached: dict = {}
         self.free_bodies = {body: self.kinematics.frame_id(body)
@@ -216,6 +217,7 @@ class Runner:
         try:
             self.start()
             wall_start = clock.perf_counter()
+            self._clock_start = wall_start if realtime else None
             self._loop(duration, realtime, wall_start)
         except KeyboardInterrupt:
             self.stop("interrupted (Ctrl-C)")
@@ -225,6 +227,14 @@ class Runner:
                 self._finish("interrupted", "interrupted (Ctrl-C)")
                 self._hold()
         return self.finish()
+
+    @property
+    def next_cycle_at(self) -> float | None:
+        """When the next cycle starts [s, ``time.perf_counter()``] in a real-time
+        :meth:`run`; ``None`` in a headless one."""
+        if self._clock_start is None:
+            return None
+        return self._clock_start + (self.cycle + 1) * self.time_step
 
     @property
     def driver_realtime(self) -> bool:

@@ -3,11 +3,11 @@ loop up. The batches wait in a bounded backlog; what happens when it is full is 
 writer's policy:
 
 - :data:`DROP` (a real-time run): batches are written while the loop sleeps between
-  its cycles: each cycle the loop ends (:meth:`WriterThread.loop_sleeps`) opens a
-  window until about the next one starts, and the work waits for an open window before
-  each of its steps (:meth:`WriterThread.turn`), so that the loop never waits for the
-  interpreter longer than a step. A full backlog drops its oldest batch (the caller
-  reports it).
+  its cycles: each cycle the loop ends opens a window until shortly before the next one
+  starts (:meth:`WriterThread.loop_sleeps`; none while the loop is late), and the work
+  waits for an open window before each of its steps (:meth:`WriterThread.turn`), so
+  that the loop never waits for the interpreter longer than a step. A full backlog
+  drops its oldest batch (the caller reports it).
 - :data:`BATCH` (a headless run): the loop never sleeps, and only one thread runs
   Python at a time, so a writer working beside it would take the interpreter from it
   over and over, each switch costing both. The writer waits until the backlog is full,
@@ -68,12 +68,12 @@ class WriterThread:
                 self._ready.wait_for(lambda: len(self._waiting) < self._backlog)
         return dropped
 
-    def loop_sleeps(self, period: float, cycle_time: float) -> None:
-        """Called by the loop at the end of a cycle that took ``cycle_time`` [s] of its
-        ``period`` [s]: it sleeps until about the next one."""
-        if self._policy == DROP:
+    def loop_sleeps(self, until: float | None) -> None:
+        """Called by the loop at the end of a cycle: it sleeps until ``until``
+        [s, ``time.perf_counter()``] (``None``: it does not sleep)."""
+        if self._policy == DROP and until is not None:
             with self._ready:
-                self._window_end = time.perf_counter() + period - cycle_time - MARGIN
+                self._window_end = until - MARGIN
                 self._ready.notify_all()
 
     def turn(self) -> None:

@@ -8,7 +8,7 @@ import numpy as np
 
 from .limits import JointLimits
 from .relaxation import acceleration_box
-from .viable import BRAKING_SHARE, viable_speed
+from .viable import BRAKING_SHARE, _viable, viable_speed
 
 
 class JointBox:
@@ -38,6 +38,9 @@ class JointBox:
         share = np.where(finite, self._acceleration, 0.0) * BRAKING_SHARE
         self._braking = (2.0 * share, 0.5 * time_step * share) if finite.any() else None
         self._unlimited = np.flatnonzero(~finite)
+        self._signs = np.vstack((np.eye(n), -np.eye(n)))
+        self._limit = np.concatenate((limits.upper, -np.asarray(limits.lower)))
+        self._signed = np.zeros(2 * n)
         self._distance = np.zeros(2 * n)
         self._toward = np.zeros(2 * n)
         self._bound = np.zeros(2 * n)
@@ -58,10 +61,9 @@ class JointBox:
         """
         n = self._n
         distance, toward, bound = self._distance, self._toward, self._bound
-        np.subtract(self.limits.upper, positions, out=distance[:n])
-        np.subtract(positions, self.limits.lower, out=distance[n:])
-        toward[:n] = previous
-        np.negative(previous, out=toward[n:])
+        np.subtract(self._limit, np.dot(self._signs, positions, out=self._signed),
+                    out=distance)
+        np.dot(self._signs, previous, out=toward)
         np.multiply(distance, self._rate, out=bound)
         if self._braking is not None:
             two_a, half_step = self._braking
@@ -73,15 +75,15 @@ class JointBox:
                 braking[self._unlimited] = np.inf
             np.minimum(bound, braking, out=bound)
             np.maximum(bound, 0.0, out=bound)   # the braking bound is never negative
-            fast = np.greater(toward, bound, out=self._mask)
-            if np.count_nonzero(fast):
-                fast = np.flatnonzero(fast)
-                bound[fast] = viable_speed(distance[fast], toward[fast],
-                                           self._acceleration[fast], self.time_step)
-        past = np.less(distance, 0.0, out=self._mask)
-        if np.count_nonzero(past):
-            past = np.flatnonzero(past)
-            bound[past] = self._driven_back(distance[past] * self._rate, toward[past], past)
+        mask = self._mask
+        if not (np.count_nonzero(np.less(distance, 0.0, out=mask))
+                or self._braking is not None
+                and np.count_nonzero(np.less(bound, toward, out=mask))):
+            np.minimum(bound, self._speed, out=bound)   # inside the limits, none too fast
+            upper[:] = bound[:n]
+            np.negative(bound[n:], out=lower)
+            return
+        self._slow_side(distance, toward, bound)
         np.minimum(bound, self._speed, out=bound)
         np.maximum(bound, self._negative_speed, out=bound)
         upper[:] = bound[:n]
@@ -90,6 +92,21 @@ class JointBox:
         if np.count_nonzero(crossed):   # back towards a limit it must brake before: either
             crossed = np.flatnonzero(crossed)
             lower[crossed], upper[crossed] = upper[crossed], lower[crossed]
+
+    def _slow_side(self, distance: np.ndarray, toward: np.ndarray, bound: np.ndarray) -> None:
+        """The bounds of the sides a joint approaches faster than its viable bound, or
+        whose limit it is past."""
+        if self._braking is not None:
+            fast = np.greater(toward, bound, out=self._mask)
+            if np.count_nonzero(fast):
+                fast = np.flatnonzero(fast)
+                viable = viable_speed if self._unlimited.size else _viable
+                bound[fast] = viable(distance[fast], toward[fast], self._acceleration[fast],
+                                     self.time_step)
+        past = np.less(distance, 0.0, out=self._mask)
+        if np.count_nonzero(past):
+            past = np.flatnonzero(past)
+            bound[past] = self._driven_back(distance[past] * self._rate, toward[past], past)
 
     def _driven_back(self, bound: np.ndarray, toward: np.ndarray, past: np.ndarray):
         """The bounds of the sides ``past`` whose limit the joint is past (``bound``:

@@ -49,10 +49,13 @@ def joint_limits(group, constraints) -> JointLimits:
         lower[columns] = np.maximum(lower[columns], low)
         upper[columns] = np.minimum(upper[columns], high)
         velocity[columns] = np.minimum(velocity[columns], speed)
-        for column, value in zip(columns, accel):
-            if value < acceleration[column]:
-                acceleration[column] = value
-                owners[column] = constraint.label
+        columns, accel = np.asarray(columns), np.asarray(accel, dtype=float)
+        stricter = np.flatnonzero(accel < acceleration[columns])
+        if stricter.size:
+            acceleration[columns[stricter]] = accel[stricter]
+            label = constraint.label
+            for column in columns[stricter].tolist():
+                owners[column] = label
     crossed = np.flatnonzero(lower > upper)
     conflict = None
     if crossed.size:

@@ -17,6 +17,7 @@ TOLERANCE = {"position": 1e-6, "velocity": 1e-6, "acceleration": 1e-3, "clearanc
 command (below :data:`~robocop_dsl.safety.braking.AT_REST`, 1e-6 rad/s, zeroed in one
 period of a millisecond: 1e-3 rad/s^2), and for clearances the 1 mm of slack of the
 discrete step."""
+_KINDS = np.arange(3)
 
 
 @dataclass
@@ -39,6 +40,7 @@ class SafetyReport:
     excess_at: dict = field(default_factory=lambda: dict.fromkeys(EXCESS_UNITS, ""))
     relaxed: Counter = field(default_factory=Counter)
     budget_cycles: int = 0
+    _rows: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def observe(self, controller, command: np.ndarray, previous: np.ndarray) -> None:
         """Take in one cycle of ``controller``: its state (the measured positions), the
@@ -47,16 +49,33 @@ class SafetyReport:
         if limits is None:
             return
         state = controller.state
-        joints = state.group.joints
         positions = state.group_positions
-        self._joints("position", np.maximum(limits.lower - positions, positions - limits.upper),
-                     joints)
-        self._joints("velocity", np.abs(command) - limits.max_velocity, joints)
-        acceleration = np.abs(command - previous) / state.time_step
-        self._joints("acceleration", acceleration - limits.max_acceleration, joints)
+        excess = self._excess_rows(len(positions))
+        position, velocity, acceleration = excess
+        np.maximum(np.subtract(limits.lower, positions, out=position),
+                   np.subtract(positions, limits.upper, out=velocity), out=position)
+        np.subtract(np.abs(command, out=velocity), limits.max_velocity, out=velocity)
+        np.abs(np.subtract(command, previous, out=acceleration), out=acceleration)
+        np.divide(acceleration, state.time_step, out=acceleration)
+        np.subtract(acceleration, limits.max_acceleration, out=acceleration)
+        if len(positions):
+            worst = excess.argmax(axis=1)
+            values = excess[_KINDS, worst].tolist()
+            for kind, value, joint in zip(EXCESS_UNITS, values, worst.tolist()):
+                if value > max(self.excess[kind], TOLERANCE[kind]):
+                    self.excess[kind] = value
+                    self.excess_at[kind] = state.group.joints[joint]
         for constraint in controller.constraints():
             if constraint.enabled and constraint.kind == "collision_avoidance":
                 self._clearance(constraint)
+
+    def _excess_rows(self, size: int) -> np.ndarray:
+        """The work array of :meth:`observe`: one row per joint limit kind (position,
+        velocity, acceleration), one column per joint."""
+        rows = self._rows
+        if rows is None or rows.shape[1] != size:
+            rows = self._rows = np.zeros((3, size))
+        return rows
 
     def count(self, result) -> None:
         """Count the relaxations and the spent budget of a
@@ -64,12 +83,6 @@ class SafetyReport:
         for name in {relaxation.constraint for relaxation in result.relaxations}:
             self.relaxed[name] += 1
         self.budget_cycles += result.status == "solver_budget"
-
-    def _joints(self, kind: str, excess: np.ndarray, joints) -> None:
-        worst = int(np.argmax(excess)) if len(excess) else 0
-        if len(excess) and excess[worst] > max(self.excess[kind], TOLERANCE[kind]):
-            self.excess[kind] = float(excess[worst])
-            self.excess_at[kind] = joints[worst]
 
     def _clearance(self, constraint) -> None:
         label = constraint.label

@@ -134,6 +134,7 @@ class CollisionScene:
         """Each pair's coal result, updated in place by every measure."""
         self._active: set[int] = set()
         self._active_of: np.ndarray | None = None
+        self._active_bytes = b""
         self._active_results: list = []
         self.frames = [world.body_frame_id(body) for body in bodies]
         """Frame id of each body of the scene."""
@@ -150,6 +151,7 @@ class CollisionScene:
         self._placed = -1
         self._bound_to = None
         self._followed = None
+        self._prepared_for: tuple | None = None
         self._pair_reach = np.zeros((len(first), 0))
         self._levers = np.ones(len(first))
         """Each pair's longest lever in ``_pair_reach`` [m per unit]."""
@@ -240,7 +242,8 @@ class CollisionScene:
     def _activate(self, indices: np.ndarray) -> list:
         """Make pairs ``indices`` the only ones pinocchio's ``computeDistances`` measures
         (kept while the same array comes back); their results, in order."""
-        if indices is not self._active_of:
+        if indices is not self._active_of and indices.tobytes() != self._active_bytes:
+            self._active_bytes = indices.tobytes()
             wanted = indices.tolist()
             active, data, chosen = self._active, self.data, set(wanted)
             for index in active - chosen:
@@ -275,6 +278,18 @@ class CollisionScene:
         """:meth:`nearby` as :class:`Witness` records, closest first."""
         return _by_distance(self.witnesses(self.nearby(kinematics, within)))
 
+    def prepare(self, kinematics) -> None:
+        """Compute, for the frames as ``kinematics`` places them now, each pair's
+        :func:`reach` (what :meth:`nearby` needs whatever the state), so that the first
+        call to :meth:`nearby` does not; needs no state."""
+        key = (kinematics, kinematics.placements)
+        if self._prepared_for == key:
+            return
+        shape_reach = reach(kinematics.model, self._frame_of, self._centers, self._half)
+        self._pair_reach = shape_reach[self.first] + shape_reach[self.second]
+        self._levers = np.maximum(self._pair_reach.max(axis=1, initial=0.0), 1e-12)
+        self._prepared_for = key
+
     def nearby(self, kinematics, within) -> Nearby:
         """The shape pairs closer than ``within`` [m] (one distance, or one per pair) at
         the current state of ``kinematics``, in the scene's order, followed from call to
@@ -300,9 +315,7 @@ class CollisionScene:
         if followed is None or followed[0] is not kinematics \
                 or followed[1] != kinematics.placements:
             self._followed = (kinematics, kinematics.placements)
-            shape_reach = reach(kinematics.model, self._frame_of, self._centers, self._half)
-            self._pair_reach = shape_reach[self.first] + shape_reach[self.second]
-            self._levers = np.maximum(self._pair_reach.max(axis=1, initial=0.0), 1e-12)
+            self.prepare(kinematics)
             self._reference = q.copy()
             self._renew_all(kinematics)
             moved[:] = 0.0

@@ -17,12 +17,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
-import coal
 import numpy as np
-import pinocchio as pin
 
 from .world import World
+
+if TYPE_CHECKING:
+    import pinocchio as pin
 
 
 @dataclass(frozen=True)
@@ -48,6 +50,9 @@ class CollisionGeometry:
     """
 
     def __init__(self, urdf: str):
+        import coal
+        import pinocchio as pin
+
         model = pin.buildModelFromXML(urdf, True)
         geometry_model = pin.buildGeomFromUrdfString(model, urdf, pin.GeometryType.COLLISION)
         shapes = []
@@ -86,14 +91,24 @@ def set_bodies(world: World, name: str) -> tuple[str, ...]:
     Raises:
         KeyError: ``name`` is neither a body, a joint group nor a joint.
     """
-    geometry = collision_geometry(world)
+    return bodies_of_set(world, name, collision_geometry(world).by_body)
+
+
+def bodies_of_set(world: World, name: str, with_geometry) -> tuple[str, ...]:
+    """:func:`set_bodies`, given the bodies that have collision geometry (a container
+    of names).
+
+    Raises:
+        KeyError: ``name`` is neither a body, a joint group nor a joint.
+    """
     if world.has_body(name):
-        return (name,) if name in geometry.by_body else ()
+        return (name,) if name in with_geometry else ()
     if not world.has_group(name) and name not in world.joint_names():
         raise KeyError(name)
-    joints = set(world.joint_group(name).joints) if world.has_group(name) else {name}
+    joints = ({joint.name for joint in world.moving_joints(name)} if world.has_group(name)
+              else {name})
     return tuple(body for body in world.body_names()
-                 if body in geometry.by_body and _moved_by(world, body, joints))
+                 if body in with_geometry and _moved_by(world, body, joints))
 
 
 def _moved_by(world: World, body: str, joints: set) -> bool:
@@ -217,6 +232,8 @@ def _longest(model: pin.Model, index: int) -> float:
 
 def describe_shape(shape: Shape) -> str:
     """``box 0.09 x 0.09 x 0.14 m``, ``cylinder r 0.06 l 0.2 m``, ``convex 102 points``."""
+    import coal
+
     geometry = shape.geometry
     if isinstance(geometry, coal.Box):
         return "box " + " x ".join(f"{2 * v:.3g}" for v in geometry.halfSide) + " m"

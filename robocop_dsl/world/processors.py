@@ -3,10 +3,11 @@ and their check when a world loads.
 
 Kinds: ``duration`` [s] > 0 (``5ms``, ``250us``, ``0.5s`` or a number of seconds),
 ``rate`` [Hz] > 0 (``1kHz``, ``500Hz`` or a number of hertz), ``group`` (a joint group
-or joint of the world), ``body`` (a body of the world), ``solver`` (an installed QP
-solver), ``choice``, ``flag`` (true/false), ``port`` (a TCP port), ``driver`` (a driver
-processor of the world), ``positive`` and ``non_negative`` (finite numbers > 0 and
->= 0), ``gains`` (a joint servo's ``{kp, kv}``, each a number > 0 or one per joint).
+or joint of the world), ``body`` (a body of the world), ``solver`` (``auto`` or an
+installed QP solver), ``choice``, ``flag`` (true/false), ``port`` (a TCP port),
+``driver`` (a driver processor of the world), ``positive`` and ``non_negative``
+(finite numbers > 0 and >= 0), ``gains`` (a joint servo's ``{kp, kv}``, each a number
+> 0 or one per joint).
 
 RoboCoP's own option names are accepted where they mean what this package does, and
 refused with the supported equivalent where they do not (see :data:`ROBOCOP_OPTIONS`).
@@ -92,7 +93,7 @@ PROCESSOR_TYPES = {
     "qp_controller": ProcessorType({
         "joint_group": Option("group", required=True),
         "time_step": Option("duration", required=True),
-        "solver": Option("solver", "proxqp"),
+        "solver": Option("solver", "auto"),
         "hierarchy": Option("choice", "strict", choices=("strict", "weighted")),
         "damping": Option("positive", 1e-6),
         "lm_damping": Option("non_negative", 1e-2),
@@ -390,7 +391,7 @@ def _body(value, option, names) -> str:
 
 
 def _solver(value, option, names) -> str:
-    if value == "proxqp":  # built in: proxsuite is a dependency
+    if value in ("auto", "daqp", "proxqp"):  # built in: daqp and proxsuite are dependencies
         return value
     from ..control.solvers import available_solvers
 

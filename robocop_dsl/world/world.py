@@ -202,6 +202,14 @@ class World:
 
         return pin.neutral(self.model)
 
+    def initial_position(self, joint: str) -> np.ndarray:
+        """Where the world starts ``joint``: its ``initial:`` posture, one value per dof
+        [rad or m], zeros when it has none (the neutral configuration, for a revolute or
+        prismatic joint: what :meth:`initial_configuration` holds, read without the
+        pinocchio model)."""
+        return np.asarray(self._assembly.initial.get(joint, np.zeros(self.joint(joint).dofs)),
+                          dtype=float)
+
     def initial_configuration(self) -> np.ndarray:
         """The neutral configuration with the world's ``initial:`` postures applied:
         each posture is a joint's positions, one per dof (an angle for a continuous

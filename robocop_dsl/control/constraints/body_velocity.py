@@ -103,6 +103,14 @@ class BodyVelocityConstraint(Constraint):
         bound = self._rows()[1]
         return -bound, bound
 
+    def write_rows(self, state: ControlState, jacobian: np.ndarray, lower: np.ndarray,
+                   upper: np.ndarray) -> None:
+        """The rows and bounds straight into the QP's arrays."""
+        selection, bound = self._rows()
+        np.negative(bound, out=lower)
+        upper[:] = bound
+        np.dot(selection, state.jacobian(self.body_id, self.reference_id), out=jacobian)
+
     def parameters(self) -> dict:
         return {"reference": self.reference, "max_linear": self._max_linear,
                 "max_angular": self._max_angular}

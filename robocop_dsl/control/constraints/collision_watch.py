@@ -83,9 +83,10 @@ class CollisionWatch:
         """Per shape pair, ``damping * min_distance`` [m/s] and ``damping`` [1/s]."""
         self._stamp = -1
         self._spans: dict = {}
-        self._spans_of: np.ndarray | None = None
+        self._spans_of = b""
+        """The pairs (as bytes) the spans and damper parameters were taken for."""
         self._offset = self._damping = np.zeros(0)
-        self.seen = nothing_seen(self.scene, state.dofs)
+        self._nothing = self.seen = nothing_seen(self.scene, state.dofs)
         """What the last look at a state found."""
 
     def add(self, owner, pairs: list[tuple[str, str]]) -> int:
@@ -106,13 +107,14 @@ class CollisionWatch:
     def _rebuild(self) -> None:
         world = self.state.world
         self.scene = CollisionScene(world, [pair for pairs in self._pairs for pair in pairs])
+        self.scene.prepare(self.state.kinematics)
         by_body = collision_geometry(world).by_body
         counts = [sum(len(by_body[a]) * len(by_body[b]) for a, b in pairs)
                   for pairs in self._pairs]
         self._starts = [0, *itertools.accumulate(counts)]
         self._key = None
         self._stamp = -1
-        self.seen = nothing_seen(self.scene, self.state.dofs)
+        self._nothing = self.seen = nothing_seen(self.scene, self.state.dofs)
 
     def retune(self) -> None:
         """An owner's ``influence``, ``min_distance`` or ``damping`` has changed."""
@@ -121,8 +123,8 @@ class CollisionWatch:
     def span(self, owner) -> tuple[int, int]:
         """The part of :attr:`seen` that holds the pairs ``owner`` watches within its
         influence at the current state: ``(first, end)``."""
-        state = self.state
-        stamp, key = state.kinematics.stamp, (state.revision, self._tuning)
+        stamp = self.state.kinematics.stamp
+        key = (self._tuning, *[owner.enabled for owner in self._owners])
         if self._stamp != stamp or self._key != key:
             self._stamp = stamp
             self._look(key)
@@ -130,10 +132,11 @@ class CollisionWatch:
 
     def _look(self, key: tuple) -> None:
         """Every owner's pairs within influence at the current state, rows and bounds
-        included; ``key`` tells whether the owners' parameters may have changed."""
+        included; ``key`` (the tuning count and whether each owner is enabled) tells
+        whether the owners' parameters may have changed."""
         if key != self._key:
             self._key = key
-            self._spans_of = None
+            self._spans_of = b""
             counts = np.diff(self._starts)
             self._within = np.repeat([owner.influence if owner.enabled else -np.inf
                                       for owner in self._owners], counts)
@@ -143,10 +146,11 @@ class CollisionWatch:
         nearby = scene.nearby(state.kinematics, self._within)
         pairs = nearby.pairs
         if not pairs.size:
-            self.seen, self._spans = nothing_seen(scene, state.dofs), {}
+            self.seen, self._spans, self._spans_of = self._nothing, {}, b""
             return
-        if pairs is not self._spans_of:
-            self._spans_of = pairs
+        signature = pairs.tobytes()
+        if signature != self._spans_of:
+            self._spans_of = signature
             self._offset, self._damping = self._damper[:, pairs]
             found = pairs.tolist()
             cuts = [bisect_left(found, start) for start in self._starts]

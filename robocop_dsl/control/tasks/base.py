@@ -268,13 +268,14 @@ class Task(ABC):
 
     @property
     def weight(self) -> np.ndarray:
-        """Per-axis weight [-] (a scalar is broadcast)."""
+        """Per-axis weight [-] (a scalar is broadcast); read-only, set a new one."""
         return self._weight
 
     @weight.setter
     def weight(self, value) -> None:
-        self._weight = vector_parameter(self.label, "weight", value, self.dimension,
-                                        minimum=0.0)
+        weight = vector_parameter(self.label, "weight", value, self.dimension, minimum=0.0)
+        weight.flags.writeable = False
+        self._weight = weight
 
     @property
     def priority(self) -> int:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 
@@ -13,6 +15,7 @@ from .base import Task
 from .body import BodyTask
 
 _AXES = {"x": (1, 2, 0), "y": (2, 0, 1), "z": (0, 1, 2)}
+_IDENTITY = np.eye(3)
 
 
 class GazeTask(BodyTask):
@@ -46,7 +49,9 @@ class GazeTask(BodyTask):
             raise InvalidParameter(f"gaze '{name}'", "axis", axis, "x, y or z")
         self.axis = axis
         self._rows = np.eye(3)[list(_AXES[axis])]
+        self._across = self._rows[:2]
         self._watched = None
+        self._found_at: tuple | None = None
         super().__init__(name, state, body, 2, **parameters)
 
     @property
@@ -82,9 +87,18 @@ class GazeTask(BodyTask):
         return pin.SE3(np.eye(3), np.asarray(watched, dtype=float))
 
     def _direction(self, state: ControlState):
-        """``(u, p, d)`` from the body to the watched point (see :func:`direction`)."""
+        """``(u, p, d)`` from the body to the watched point (see :func:`direction`),
+        computed once per state and target."""
+        kinematics = state.kinematics
+        stamp, placements, target = kinematics.stamp, kinematics.placements, self._watched
+        cached = self._found_at
+        if (cached is not None and cached[0] == stamp and cached[1] == placements
+                and cached[2] is target):
+            return cached[3]
         watched = self.watched_pose(state)
-        return None if watched is None else direction(self.pose(state), watched.translation)
+        found = None if watched is None else direction(self.pose(state), watched.translation)
+        self._found_at = (stamp, placements, target, found)
+        return found
 
     def compute_value(self, state: ControlState) -> np.ndarray:
         found = self._direction(state)
@@ -98,8 +112,8 @@ class GazeTask(BodyTask):
         rotation_t = self.pose(state).rotation.T
         jacobian = state.jacobian(self.body_id, self.reference_id)
         local_rate = skew(local) @ rotation_t @ jacobian[3:] - rotation_t @ jacobian[:3]
-        projection = (np.eye(3) - np.outer(unit, unit)) / distance
-        return (self._rows @ projection @ local_rate)[:2]
+        projection = (_IDENTITY - np.outer(unit, unit)) / distance
+        return self._across @ projection @ local_rate
 
     @property
     def angle(self) -> float:
@@ -145,5 +159,5 @@ def direction(pose: pin.SE3, point: np.ndarray):
     ``pose`` to ``point``, in the frame of ``pose``; ``None`` when the point is at the
     origin."""
     local = pose.rotation.T @ (point - pose.translation)
-    distance = float(np.linalg.norm(local))
+    distance = math.sqrt(local.dot(local))
     return None if distance < 1e-9 else (local / distance, local, distance)
