@@ -136,7 +136,7 @@ def test_serial_campaign_runs_the_real_mission(serial_table):
     assert {r["outcome"] for r in rows} == {"success"}
     assert all(r["final_state"] == "done" and r["cycles"] > 100 for r in rows)
     assert all(0 <= r["min_limit_margin"] < 3 and r["limit_joint"] for r in rows)
-    assert all(r["solver"] == "proxqp" and r["time_step"] == 0.005 for r in rows)
+    assert all(r["solver"] == "auto" and r["time_step"] == 0.005 for r in rows)
     assert len({r["pickup_point.x"] for r in rows}) == 3
 
 

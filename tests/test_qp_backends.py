@@ -184,14 +184,15 @@ def test_auto_solves_a_strict_hierarchy_with_more_task_rows_than_dofs():
         DaqpSolver, DaqpSolver, ProxqpSolver, ProxqpSolver]
 
 
-@pytest.mark.parametrize("solver", ["daqp", "auto"])
+@pytest.mark.parametrize("solver", ["daqp", "proxqp"])
 def test_world_solver_option_runs_the_pickup_mission(solver, tmp_path, capsys):
-    """``solver: daqp`` and ``solver: auto`` in the world file: check accepts them, and
-    missions/pickup.mission runs to success without a QP failure."""
+    """``solver: daqp`` and ``solver: proxqp`` in the world file instead of its ``auto``:
+    check accepts them, and missions/pickup.mission runs to success without a QP
+    failure."""
     world = (REPO / "robots/bazar/sophia.yaml").read_text()
-    assert "solver: proxqp" in world
+    assert "solver: auto" in world
     path = tmp_path / "sophia.yaml"
-    path.write_text(world.replace("solver: proxqp", f"solver: {solver}"))
+    path.write_text(world.replace("solver: auto", f"solver: {solver}"))
     mission = str(REPO / "missions/pickup.mission")
     assert main(["check", mission, "--world", str(path)]) == 0
     assert main(["run", mission, "--world", str(path)]) == 0

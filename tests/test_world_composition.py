@@ -53,7 +53,7 @@ def test_bazar_names(bazar):
     assert bazar.controller_names() == ["whole_body_controller"]
     options = bazar.processors["whole_body_controller"].options
     assert options == {"joint_group": "bazar_upper_joints", "time_step": 0.005,
-                       "solver": "proxqp", "hierarchy": "strict"}
+                       "solver": "auto", "hierarchy": "strict"}
 
 
 def test_bazar_limits_from_the_datasheet(bazar):
