@@ -10,7 +10,12 @@ more fresh interpreters, where a check's time goes: importing the command, build
 the parser, loading the world, parsing and checking (medians of CPU time [ms]).
 
 The caches (parser tables, collision facts) are warm: the first run fills them and is
-not counted.
+not counted. So is the bytecode: the children write and read their ``.pyc`` files, as
+a shell does, whatever ``PYTHONDONTWRITEBYTECODE`` says here; they keep them in a
+folder of the bench's own (``PYTHONPYCACHEPREFIX``), never beside the sources. A second
+line of ``check`` runs without the project's ``.pyc`` (every one of its modules compiled
+at each start, the libraries' read from theirs): what a check costs where bytecode is
+never written.
 
     python bench/check_time.py [--runs 10] [--run-start] [MISSION]
 """
@@ -19,10 +24,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
+import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -63,11 +71,30 @@ def _child_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def timed(arguments: list) -> tuple[float, float, subprocess.CompletedProcess]:
+def bytecode_environments(folder: Path) -> tuple[dict, dict]:
+    """The children's environments: with bytecode written and read under ``folder``/all,
+    and with the project's left out (``folder``/others holds every ``.pyc`` but the
+    project's and none is written). Call :func:`without_project` once ``folder``/all is
+    filled."""
+    with_pyc = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    with_pyc["PYTHONPYCACHEPREFIX"] = str(folder / "all")
+    without = dict(with_pyc, PYTHONDONTWRITEBYTECODE="1",
+                   PYTHONPYCACHEPREFIX=str(folder / "others"))
+    return with_pyc, without
+
+
+def without_project(folder: Path) -> None:
+    """Copy the ``.pyc`` files of ``folder``/all to ``folder``/others, the project's
+    left out."""
+    shutil.copytree(folder / "all", folder / "others")
+    shutil.rmtree(folder / "others" / REPO.relative_to(REPO.anchor), ignore_errors=True)
+
+
+def timed(arguments: list, env: dict) -> tuple[float, float, subprocess.CompletedProcess]:
     """Wall-clock and CPU seconds of ``python ARGUMENTS`` in a new process."""
     cpu, start = _child_cpu(), time.perf_counter()
     done = subprocess.run([sys.executable, *arguments], cwd=REPO, capture_output=True,
-                          text=True)
+                          text=True, env=env)
     return time.perf_counter() - start, _child_cpu() - cpu, done
 
 
@@ -79,17 +106,31 @@ def main() -> None:
     parser.add_argument("--run-start", action="store_true",
                         help="also time `robocop-mission run --help`")
     args = parser.parse_args()
-    lines = [("python -c pass", ["-c", "pass"]),
-             (f"check {args.mission.name}", ["-c", SCRIPT, "check", str(args.mission)])]
+    with tempfile.TemporaryDirectory(prefix="check-time-") as folder:
+        measure(args, Path(folder))
+
+
+def measure(args, folder: Path) -> None:
+    """Print the tables, the children's bytecode kept under ``folder``."""
+    with_pyc, without = bytecode_environments(folder)
+    check = ["-c", SCRIPT, "check", str(args.mission)]
+    lines = [("python -c pass", ["-c", "pass"], with_pyc),
+             (f"check {args.mission.name}", check, with_pyc),
+             ("check, no project .pyc", check, without)]
     if args.run_start:
-        lines.append(("run --help", ["-c", SCRIPT, "run", "--help"]))
-    _, _, done = timed(lines[1][1])
-    if done.returncode not in (0, 1):
-        sys.exit(f"check failed ({done.returncode}):\n{done.stdout}{done.stderr}")
-    times = {label: ([], []) for label, _ in lines}
+        lines.append(("run --help", ["-c", SCRIPT, "run", "--help"], with_pyc))
+    for arguments in dict.fromkeys(tuple(arguments) for _, arguments, _ in lines):
+        _, _, done = timed(list(arguments), with_pyc)
+        if done.returncode not in (0, 1):
+            sys.exit(f"check failed ({done.returncode}):\n{done.stdout}{done.stderr}")
+    without_project(folder)
+    print("The children write and read bytecode as a shell does (PYTHONDONTWRITEBYTECODE "
+          "unset, a warm-up run first);\n'no project .pyc' compiles the project's "
+          "modules at every start.\n")
+    times = {label: ([], []) for label, _, _ in lines}
     for _ in range(args.runs):
-        for label, arguments in lines:
-            wall, cpu, _ = timed(arguments)
+        for label, arguments, env in lines:
+            wall, cpu, _ = timed(arguments, env)
             times[label][0].append(wall)
             times[label][1].append(cpu)
     floor = statistics.median(times[lines[0][0]][0])
@@ -101,7 +142,7 @@ def main() -> None:
     phases: dict[str, list] = {}
     for _ in range(args.runs):
         done = subprocess.run([sys.executable, "-c", PHASES, str(args.mission)], cwd=REPO,
-                              capture_output=True, text=True, check=True)
+                              capture_output=True, text=True, check=True, env=with_pyc)
         for name, seconds in json.loads(done.stdout).items():
             phases.setdefault(name, []).append(seconds)
     print(f"\n{'where a check goes (CPU)':<28} {'median ms':>11}")

@@ -130,7 +130,7 @@ async def edit_in_a_row(edits: int) -> dict:
             [types.TextDocumentContentChangePartial(types.Range(at, at), character)]))
     last = edits + 1
     start = time.perf_counter()
-    while last not in published:
+    while edits and last not in published:
         await asyncio.sleep(0.005)
     after = time.perf_counter() - start
     exit_time = await exit_time_of(client)

@@ -105,6 +105,20 @@ def test_a_block_closed_by_a_brace_less_indented_than_its_own():
     assert [s.name.text for s in result.mission.states] == ["a", "b"]
 
 
+def test_braces_that_cannot_close_where_the_layout_says_stay_reported_in_the_text():
+    """A file cut after braces opened one after the other: closing them where the
+    layout says does not parse either, and no diagnostic points into the braces that
+    were tried."""
+    text = (Path(__file__).parent / "fixtures/invalid/var_force_of_wrong_kind.mission"
+            ).read_text()
+    text = "1e999" + text[:text.index("enter { p") + len("enter { p")] + "{" * 80
+    lines = text.split("\n")
+    result = parse_mission(text, "t.mission")
+    assert result.diagnostics
+    assert all(d.span.column <= len(lines[d.span.line - 1]) + 1
+               for d in result.diagnostics), [d.headline() for d in result.diagnostics]
+
+
 def test_several_errors_all_reported():
     """Recovery goes on after each error: one diagnostic per broken statement."""
     text = ("task t: body_pose(b) {\n    gain 2\n}\n"

@@ -30,6 +30,9 @@ _NAME_FIELDS = {
     ast.Contact: ("first", "second"),
 }
 
+# The node types that a substitution may change (the others only get new children).
+_VISITED = frozenset({ast.Reference, ast.Variable, ast.Log, ast.Vector, *_NAME_FIELDS})
+
 
 @dataclass(frozen=True)
 class Binding:
@@ -62,7 +65,7 @@ def substitute(ctx: CheckContext, node, bindings: dict[str, Binding]):
         if fields:
             return _renamed(child, fields, bindings)
         return child
-    return rebuild(node, visit, keep=_lists_axes)
+    return rebuild(node, visit, keep=_lists_axes, kinds=_VISITED)
 
 
 def _lists_axes(node) -> bool:

@@ -42,12 +42,14 @@ def replace(node, **changes):
     return new
 
 
-def rebuild(node, visit: Callable, keep: Callable | None = None):
+def rebuild(node, visit: Callable, keep: Callable | None = None,
+            kinds: frozenset[type] | None = None):
     """``node`` rebuilt bottom-up: every child node (in fields and tuples) first, then
     ``visit(node)`` on the node with its new children. Unchanged subtrees are kept, and
-    so are the nodes for which ``keep(node)`` holds, unvisited."""
+    so are the nodes for which ``keep(node)`` holds, unvisited. ``kinds``, when given,
+    are the node types that ``visit`` may change: the others are not visited."""
     if isinstance(node, tuple):
-        items = [rebuild(item, visit, keep) for item in node]
+        items = [rebuild(item, visit, keep, kinds) for item in node]
         for new, old in zip(items, node):
             if new is not old:
                 return tuple(items)
@@ -55,15 +57,18 @@ def rebuild(node, visit: Callable, keep: Callable | None = None):
     if not isinstance(node, ast.Node) or (keep is not None and keep(node)):
         return node
     changes = None
-    for name in child_fields(type(node)):
+    kind = type(node)
+    for name in _CHILDREN.get(kind) or child_fields(kind):
         value = getattr(node, name)
         if isinstance(value, (ast.Node, tuple)):
-            new = rebuild(value, visit, keep)
+            new = rebuild(value, visit, keep, kinds)
             if new is not value:
                 if changes is None:
                     changes = {}
                 changes[name] = new
-    return visit(replace(node, **changes) if changes else node)
+    if changes:
+        node = replace(node, **changes)
+    return visit(node) if kinds is None or kind in kinds else node
 
 
 def in_file(node, path: str):

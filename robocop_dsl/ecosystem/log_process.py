@@ -8,7 +8,8 @@ every :data:`PERIOD` of mission time to a thread that computes the task views, p
 the cycles into arrays (:mod:`~robocop_dsl.runtime.record_batch`) and sends them down
 a pipe (policies as :mod:`~robocop_dsl.runtime.writer_thread`'s: a real-time run drops
 its oldest cycles rather than wait, a headless run waits). The writing process
-(``python -m robocop_dsl.ecosystem.log_process``, at a lower priority) runs a
+(``python -m robocop_dsl.ecosystem.log_process``; in a real-time run, at the idle
+priority: see :func:`_yield_to_the_loop`) runs a
 :class:`~robocop_dsl.runtime.RunLogger` and the ``run.mcap`` writer on them. Neither
 SIGINT nor SIGTERM stops it: the run's process stops the run and then the log. If that
 process dies, the log stays as a killed run leaves it (the row groups and the MCAP
@@ -33,16 +34,17 @@ from ..runtime.log import dropped_event
 from ..runtime.record_batch import pack, unpack
 from ..runtime.records import CycleRecord, Event, Observer
 from ..runtime.run_info import RunInfo
-from ..runtime.writer_thread import BATCH, WAIT, WriterThread
+from ..runtime.writer_thread import BATCH, DROP, WAIT, WriterThread
 
 PERIOD = 0.1
 """Mission time [s] between two hand-overs to the writing process."""
 BACKLOG = 1.0
 """Mission time [s] of cycles waiting to be sent at most (what the writing process has
 left to write when the run stops, in a headless run)."""
-NICENESS = 10
+NICENESS = 19
 """How much lower the writing process's scheduling priority is than the run's, from
-the first cycle on: on a busy machine, the loop gets the processor first."""
+the first cycle of a real-time run on, where Linux's idle scheduling class (the process runs only on a
+processor nothing else wants, and yields it at once) is not available."""
 PIPE_SIZE = 1 << 20
 """Bytes the pipe to the writing process holds (Linux), about 5 s of cycles of the
 pickup."""
@@ -99,7 +101,7 @@ class LogProcess(Observer):
         info = RunInfo.of(runner)
         self._report, self._policy = info.report, policy
         try:
-            _send(self._process.stdin, ("start", self.folder, info.portable()))
+            _send(self._process.stdin, ("start", self.folder, info.portable(), policy))
             reply = _receive(self._process.stdout)
         except OSError:                 # it died before reading: its error is on stderr
             reply = None
@@ -215,7 +217,7 @@ def main() -> None:
     start = _receive(requests)
     if start is None:
         os._exit(0)
-    _, folder, info = start
+    _, folder, info, policy = start
     try:
         writers = [RunLogger(folder, info.joint_names, WAIT),
                    mcap_log(load_world(info.world_path), info.joint_names, folder, WAIT)]
@@ -225,7 +227,8 @@ def main() -> None:
         _send(replies, ("error", _text(error)))
         os._exit(1)
     _send(replies, ("ready",))
-    os.nice(NICENESS)
+    if policy == DROP:
+        _yield_to_the_loop()
     problems: list = []
     while (message := _receive(requests)) is not None:
         if message[0] == "stop":
@@ -246,6 +249,20 @@ def main() -> None:
         except Exception as error:  # told at the stop; what comes after is not written
             problems.append(_text(error))
     os._exit(0)                   # the run's process is gone: leave the log as it is
+
+
+def _yield_to_the_loop() -> None:
+    """In a real-time run, from the first cycle on, every thread of the writing process (its writers' too)
+    runs only when a processor has nothing else to do: on a busy machine the loop never
+    waits for it. Linux sets priorities per thread."""
+    threads = [int(task) for task in os.listdir("/proc/self/task")] \
+        if os.path.isdir("/proc/self/task") else [0]
+    for thread in threads:
+        try:
+            os.sched_setscheduler(thread, os.SCHED_IDLE, os.sched_param(0))
+        except (AttributeError, OSError):
+            with contextlib.suppress(OSError):
+                os.setpriority(os.PRIO_PROCESS, thread, NICENESS)
 
 
 def _text(error: BaseException) -> str:

@@ -24,7 +24,7 @@ from ..diagnostics import Diagnostic, SourceFile, Span
 from ..resources import GRAMMAR_DIR, private_cache_file
 from ..sources import MISSION, read_source
 from . import ast
-from .syntax_errors import (RESERVED, UNCLOSED, Recovery, closed_by_layout,
+from .syntax_errors import (RESERVED, UNCLOSED, Recovery, closed_by_layout, code_of,
                             layout_closings)
 from .transformer import MissionBuilder
 
@@ -163,13 +163,17 @@ def _closed_by_layout(text: str, source: SourceFile, mission: ast.Mission,
                       diagnostics: list[Diagnostic], unclosed: int):
     """The parse of ``text`` with each block that its indentation shows to be over
     closed where it ends (the statements after it stay out of it), when that parse
-    leaves no block open and has no more errors than the first, else the first."""
+    leaves no block open, finds nothing wrong with the added ``}`` and has no more
+    errors than the first, else the first."""
     closings = layout_closings(text)
     if not closings:
         return mission, diagnostics
     patched = closed_by_layout(text, closings)
     second, found, still_open = _parse(patched, SourceFile(source.path, patched))
-    if still_open or len(found) > len(diagnostics) - unclosed:
+    ends = {c.at: len(code_of(source.line(c.at)).rstrip()) for c in closings}
+    on_added = any(d.span and d.span.column > ends.get(d.span.line, d.span.column)
+                   for d in found)
+    if still_open or on_added or len(found) > len(diagnostics) - unclosed:
         return mission, diagnostics
     quoted = [dataclasses.replace(d, source_line=source.line(d.span.line)) if d.span else d
               for d in found]
