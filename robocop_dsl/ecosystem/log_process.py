@@ -30,7 +30,7 @@ import traceback
 from pathlib import Path
 
 from ..diagnostics import RobocopError
-from ..runtime.log import dropped_event
+from ..runtime.log import report_dropped
 from ..runtime.record_batch import pack, unpack
 from ..runtime.records import CycleRecord, Event, Observer
 from ..runtime.run_info import RunInfo
@@ -43,8 +43,9 @@ BACKLOG = 1.0
 left to write when the run stops, in a headless run)."""
 NICENESS = 19
 """How much lower the writing process's scheduling priority is than the run's, from
-the first cycle of a real-time run on, where Linux's idle scheduling class (the process runs only on a
-processor nothing else wants, and yields it at once) is not available."""
+the first cycle of a real-time run on, where Linux's idle scheduling class (the
+process runs only on a processor nothing else wants, and yields it at once) is not
+available."""
 PIPE_SIZE = 1 << 20
 """Bytes the pipe to the writing process holds (Linux), about 5 s of cycles of the
 pickup."""
@@ -159,12 +160,8 @@ class LogProcess(Observer):
         items, self._items = self._items, []
         if not items or self._sender is None:
             return
-        dropped = self._sender.put(items)
-        records = [item for item in dropped or () if isinstance(item, CycleRecord)]
-        if records:
-            self.dropped += len(records)
-            if self._report is not None:
-                self._report("dropped", dropped_event("time series and run.mcap", records))
+        self.dropped += report_dropped(self._report, "time series and run.mcap",
+                                       self._sender.put(items))
 
     def _send(self, items: list) -> None:
         """In the sending thread: the items as messages, cycles packed (their task
@@ -252,9 +249,9 @@ def main() -> None:
 
 
 def _yield_to_the_loop() -> None:
-    """In a real-time run, from the first cycle on, every thread of the writing process (its writers' too)
-    runs only when a processor has nothing else to do: on a busy machine the loop never
-    waits for it. Linux sets priorities per thread."""
+    """In a real-time run, from the first cycle on, every thread of the writing process
+    (its writers' too) runs only when a processor has nothing else to do: on a busy
+    machine the loop never waits for it. Linux sets priorities per thread."""
     threads = [int(task) for task in os.listdir("/proc/self/task")] \
         if os.path.isdir("/proc/self/task") else [0]
     for thread in threads:

@@ -4,7 +4,7 @@ sink (the ``run.mcap`` file, the Foxglove server)."""
 
 from __future__ import annotations
 
-from ..runtime.log import dropped_event, event_json
+from ..runtime.log import event_json, report_dropped
 from ..runtime.records import CycleRecord, Observer
 from ..runtime.writer_thread import DROP, WriterThread
 from .topics import RunTopics
@@ -96,12 +96,7 @@ class TopicStream(Observer):
         items, self._items = self._items, []
         if not items or self._writer is None:
             return
-        dropped = self._writer.put(items)
-        records = [item for item in dropped or () if isinstance(item, CycleRecord)]
-        if records:
-            self.dropped += len(records)
-            if self._report is not None:
-                self._report("dropped", dropped_event(self.name, records))
+        self.dropped += report_dropped(self._report, self.name, self._writer.put(items))
 
     def _write(self, items: list) -> None:
         """In the writer thread: the messages of a hand-over, in time order, made

@@ -145,11 +145,7 @@ class RunLogger(Observer):
         if self._writer is None:
             self._open(self._batch)
         batch, self._batch = self._batch, []
-        dropped = self._writer.put(batch)
-        if dropped:
-            self.dropped += len(dropped)
-            if self._report is not None:
-                self._report("dropped", dropped_event("time series", dropped))
+        self.dropped += report_dropped(self._report, "time series", self._writer.put(batch))
 
     def _open(self, records: list) -> None:
         """Fix the columns, clear the folder's time series, start the writer thread."""
@@ -274,6 +270,16 @@ def dropped_event(writer: str, records: list) -> dict:
     return {"writer": writer, "cycles": len(records), "from": first.time, "to": last.time,
             "message": f"{writer} writer fell behind: dropped {len(records)} cycles "
                        f"({first.time:.3f} s to {last.time:.3f} s)"}
+
+
+def report_dropped(report, writer: str, dropped) -> int:
+    """Tell ``report`` (a run's ``report``, or ``None``) that ``writer`` dropped the
+    items ``dropped`` (a batch a writer thread let go, or ``None``); returns how many
+    cycles they held."""
+    records = [item for item in dropped or () if isinstance(item, CycleRecord)]
+    if records and report is not None:
+        report("dropped", dropped_event(writer, records))
+    return len(records)
 
 
 POSE_COMPONENTS = ("x", "y", "z", "qx", "qy", "qz", "qw")
