@@ -75,3 +75,25 @@ def test_a_finished_run_joins_its_row_groups(tmp_path):
     np.testing.assert_array_equal(data["cycle"], np.arange(result.cycles))
     assert set(data["state"]) == {"sway", "done"}
     assert list(data).index("error.arms") < list(data).index("error.left_tool")
+
+
+def test_row_groups_are_joined_a_minute_at_a_time_while_the_run_goes(tmp_path, monkeypatch):
+    """Every :data:`JOINED_GROUPS` row groups become one row group of the joined file
+    as the run goes (here 2 of 1 s each, so a 5.5 s run gives row groups of 2, 2 and
+    the last 1.5 s), and the file holds every cycle once, in order."""
+    monkeypatch.setattr("robocop_dsl.runtime.log.JOINED_GROUPS", 2)
+    mission = load_mission(write(tmp_path, "long.mission",
+                                 LONG.replace("elapsed > 600 s", "elapsed > 5.5 s")))
+    runner = mission.runner()
+    runner.add_observer(RunLogger(tmp_path / "log", runner.joint_names))
+    result = runner.run()
+    assert result.outcome == "success"
+    assert not (tmp_path / "log" / PARTS).exists()
+    assert sorted(path.name for path in (tmp_path / "log").iterdir()) == [
+        "events.jsonl", TIMESERIES]
+    metadata = pq.ParquetFile(tmp_path / "log" / TIMESERIES).metadata
+    sizes = [metadata.row_group(index).num_rows for index in range(metadata.num_row_groups)]
+    assert sizes[:2] == [400, 400] and sum(sizes) == result.cycles
+    data = read_timeseries(tmp_path / "log")
+    np.testing.assert_array_equal(data["cycle"], np.arange(result.cycles))
+    assert np.isfinite(data["error.arms"]).all()

@@ -4,7 +4,8 @@ so writers in the loop's process take turns with it; in their own process they w
 the other core.
 
 The loop's side (:class:`LogProcess`, a run observer) hands the cycles and events over
-every :data:`PERIOD` of mission time to a thread that computes the task views, packs
+every :data:`PERIOD` of mission time (a headless run: every :data:`BACKLOG`, in one
+batch) to a thread that computes the task views, packs
 the cycles into arrays (:mod:`~robocop_dsl.runtime.record_batch`) and sends them down
 a pipe (policies as :mod:`~robocop_dsl.runtime.writer_thread`'s: a real-time run drops
 its oldest cycles rather than wait, a headless run waits). The writing process
@@ -83,6 +84,7 @@ class LogProcess(Observer):
         self._policy: str | None = None
         self._runner = None
         self._items: list = []
+        self._period = PERIOD
         self._next = PERIOD
         self._sender: WriterThread | None = None
         self._report = None
@@ -115,8 +117,10 @@ class LogProcess(Observer):
         if self._policy is None:
             self.prepare(runner, BATCH)
         self._runner = runner
+        if self._policy == BATCH:     # the loop waits for each batch: make it one
+            self._period = self._next = BACKLOG
         self._sender = WriterThread("run log sender", self._send,
-                                    max(2, round(BACKLOG / PERIOD)), self._policy)
+                                    max(1, round(BACKLOG / self._period)), self._policy)
 
     def close(self) -> None:
         """End the process if the run did not (a run that never started)."""
@@ -127,7 +131,7 @@ class LogProcess(Observer):
     def on_cycle(self, record: CycleRecord) -> None:
         self._items.append(record)
         if record.time >= self._next - 1e-9:
-            self._next = record.time + PERIOD
+            self._next = record.time + self._period
             self._hand_over()
         if self._sender is not None:
             self._sender.loop_sleeps(getattr(self._runner, "next_cycle_at", None))

@@ -21,9 +21,10 @@ world's joint groups made of logged joints (``plot`` draws a panel per group). R
 The time series is streamed: every second of mission time a writer thread turns the
 cycles into one row group and writes it to ``timeseries.parts/`` as a file of its own
 (written under a temporary name, then renamed), so memory stays flat and a killed run
-keeps every row group but the one in progress. When the run stops, the parts are
-joined into ``timeseries.parquet`` (a minute of mission time per row group) and
-removed. :func:`read_timeseries` reads either. pyarrow is imported and the schema made
+keeps every row group but the one in progress. The writer also keeps the row groups
+it wrote and joins them, a minute of mission time at a time, into one row group of
+``timeseries.parquet`` (written under a temporary name); when the run stops, that file
+is completed and the parts are removed. :func:`read_timeseries` reads either. pyarrow is imported and the schema made
 before the first cycle; in a real-time run, a writer that falls :data:`BACKLOG` row
 groups behind drops the oldest (a ``dropped`` event says which cycles) rather than hold
 up the loop; in a headless run, the loop waits for it (:mod:`~robocop_dsl.runtime.writer_thread`).
@@ -86,6 +87,8 @@ class RunLogger(Observer):
         self._units: dict = {}
         self._kinds: dict = {}
         self._groups = 0
+        self._unjoined: list = []
+        self._joined = None
         self._writer: WriterThread | None = None
         self._schema = None
         self._bodies: list = []
@@ -176,6 +179,10 @@ class RunLogger(Observer):
         pq.write_table(table, temporary)
         os.replace(temporary, final)
         self._groups += 1
+        self._unjoined.append(table)
+        if len(self._unjoined) >= JOINED_GROUPS:
+            self._writer.turn()
+            self._join()
 
     def _table(self, records: list):
         import pyarrow as pa
@@ -226,24 +233,26 @@ class RunLogger(Observer):
         columns["compute_time"] = np.array([r.compute_time for r in records])
         return pa.table(columns, schema=self._schema)
 
-    def _join_parts(self) -> Path:
-        """Join the row group files into ``timeseries.parquet``, :data:`JOINED_GROUPS` of
-        them per row group of the file (few row groups keep the file's footer small),
-        then remove them."""
+    def _join(self) -> None:
+        """Write the row groups not joined yet as one row group of the joined file."""
         import pyarrow as pa
         import pyarrow.parquet as pq
 
-        parts = sorted((self.folder / PARTS).glob("*.parquet"))
+        if self._joined is None:
+            self._joined = pq.ParquetWriter(self.folder / f"{TIMESERIES}.tmp", self._schema)
+        tables, self._unjoined = self._unjoined, []
+        self._joined.write_table(pa.concat_tables(tables) if tables
+                                 else self._schema.empty_table())
+
+    def _join_parts(self) -> Path:
+        """Complete ``timeseries.parquet`` with the row groups not joined yet, then
+        remove the row group files."""
+        if self._unjoined or self._joined is None:
+            self._join()
+        self._joined.close()
+        self._joined = None
         path = self.folder / TIMESERIES
-        temporary = path.with_suffix(".tmp")
-        with pq.ParquetWriter(temporary, self._schema) as writer:
-            for first in range(0, len(parts), JOINED_GROUPS):
-                tables = []
-                for part in parts[first:first + JOINED_GROUPS]:
-                    with pq.ParquetFile(part) as file:
-                        tables.append(file.read())
-                writer.write_table(pa.concat_tables(tables))
-        os.replace(temporary, path)
+        os.replace(self.folder / f"{TIMESERIES}.tmp", path)
         shutil.rmtree(self.folder / PARTS)
         return path
 

@@ -51,20 +51,29 @@ def pack(records: list) -> dict:
 def unpack(batch: dict) -> list:
     """The records of a :func:`pack` ed batch."""
     records = []
-    tasks = batch["tasks"]
-    for row in range(len(batch["cycle"])):
+    tasks = [(name, task["kind"], task["body"], task["error"].tolist(),
+              _rows(task["target"]), _rows(task["reference"]), _present(task["reference"]),
+              task["position_error"].tolist(), task["orientation_error"].tolist())
+             for name, task in batch["tasks"].items()]
+    bodies, wrenches = _measured(batch["bodies"]), _measured(batch["wrenches"])
+    variables = batch["variables"].items()
+    columns = (batch["cycle"].tolist(), batch["time"].tolist(), batch["state"],
+               list(batch["q"]), list(batch["positions"]), list(batch["command"]),
+               batch["solved"].tolist(), batch["compute_time"].tolist(),
+               batch["cycle_time"].tolist())
+    for row, (cycle, time, state, q, positions, command, solved, compute_time,
+              cycle_time) in enumerate(zip(*columns)):
         views = tuple(
-            TaskView(name, task["kind"], task["body"], task["error"][row],
-                     _item(task["target"], row), _item(task["reference"], row),
-                     task["position_error"][row], task["orientation_error"][row])
-            for name, task in tasks.items() if _present(task["reference"], row))
+            TaskView(name, kind, body, error[row], target[row], reference[row],
+                     position_error[row], orientation_error[row])
+            for name, kind, body, error, target, reference, present, position_error,
+            orientation_error in tasks if present[row])
         records.append(CycleRecord(
-            int(batch["cycle"][row]), float(batch["time"][row]), batch["state"][row],
-            batch["q"][row], batch["positions"][row], batch["command"][row],
-            bool(batch["solved"][row]), views, _row(batch["bodies"], row),
-            float(batch["compute_time"][row]), float(batch["cycle_time"][row]),
-            wrenches=_row(batch["wrenches"], row),
-            variables={name: values[row] for name, values in batch["variables"].items()
+            cycle, time, state, q, positions, command, solved, views,
+            {key: values[row] for key, values, present in bodies if present[row]},
+            compute_time, cycle_time,
+            wrenches={key: values[row] for key, values, present in wrenches if present[row]},
+            variables={name: values[row] for name, values in variables
                        if values[row] is not None}))
     return records
 
@@ -80,8 +89,12 @@ def _keyed(records: list, attribute: str, shape: tuple) -> dict:
     return out
 
 
-def _row(keyed: dict, row: int) -> dict:
-    return {key: values[row] for key, values in keyed.items() if not np.isnan(values[row]).all()}
+def _measured(keyed: dict) -> list:
+    """``(key, rows, present)`` of each key of a :func:`_keyed` mapping: its rows and
+    whether each has a value (not all NaN)."""
+    return [(key, list(values),
+             (~np.isnan(values.reshape(len(values), -1)).all(axis=1)).tolist())
+            for key, values in keyed.items()]
 
 
 def _stacked(values: list):
@@ -97,11 +110,13 @@ def _stacked(values: list):
     return (shape, (array, present))
 
 
-def _present(stacked: tuple, row: int) -> bool:
+def _present(stacked: tuple) -> list:
+    """Whether each row of a :func:`_stacked` column has a value."""
     shape, values = stacked
-    return values[row] is not None if shape is None else bool(values[1][row])
+    return [value is not None for value in values] if shape is None else values[1].tolist()
 
 
-def _item(stacked: tuple, row: int):
+def _rows(stacked: tuple) -> list:
+    """The rows of a :func:`_stacked` column."""
     shape, values = stacked
-    return values[row] if shape is None else values[0][row]
+    return values if shape is None else list(values[0])

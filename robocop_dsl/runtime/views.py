@@ -23,6 +23,8 @@ _LINEAR, _ANGULAR = slice(0, 3), slice(3, 6)     # of a pose task's error
 _KINDS = {"joint_position": "joint", "joint_velocity": "velocity", "body_velocity": "velocity",
           "body_position": "position", "body_orientation": "orientation", "body_pose": "pose",
           "body_force": "force"}
+_NOTHING = np.zeros(0)
+_NOTHING.flags.writeable = False
 
 
 class TaskViews(Sequence):
@@ -79,32 +81,32 @@ def task_views(controller) -> TaskViews:
 
 def _resolve(task, sample, target, poses: dict) -> TaskView:
     """A task's view from what was captured in its cycle."""
-    kind = view_kind(task)
+    kind = _KINDS.get(task.kind, task.kind)
     body = getattr(task, "body", None)
-    if sample.value is None:
-        return TaskView(task.name, kind, body, float("nan"), np.zeros(0), np.zeros(0))
+    value = sample.value
+    if value is None:
+        return TaskView(task.name, kind, body, math.nan, _NOTHING, _NOTHING)
     reference_id = getattr(task, "reference_id", 0)
     frame = poses[reference_id] if reference_id else None
-    if task.kind == "gaze":
+    if kind == "gaze":
         pose = _relative(poses[task.body_id], frame)
         watched = task.locate(target, lambda frame_id: _relative(poses[frame_id], frame))
-        error = task.angle_at(pose, watched)
-        shown = np.zeros(0) if watched is None else _in_world(task, watched, frame, None)
-        return TaskView(task.name, kind, body, error, shown,
+        shown = _NOTHING if watched is None else _in_world(task, watched, frame, None)
+        return TaskView(task.name, kind, body, task.angle_at(pose, watched), shown,
                         _in_world(task, sample.reference, frame, None))
-    body_pose = poses[task.body_id] if task.kind == "body_orientation" else None
-    if task.kind == "body_pose":
-        error = task.compute_error(sample.value, sample.goal)
+    goal = sample.goal
+    body_pose = poses[task.body_id] if kind == "orientation" else None
+    if kind == "pose":
+        error = task.compute_error(value, goal)
         linear, angular = error[_LINEAR], error[_ANGULAR]
         parts = (math.sqrt(linear @ linear), math.sqrt(angular @ angular))
         norm = (math.hypot(*parts) if type(task).error_norm is Task.error_norm
-                else task.error_norm(sample.value, sample.goal))
-    else:
-        parts = (float("nan"), float("nan"))
-        norm = task.error_norm(sample.value, sample.goal)
-    return TaskView(task.name, kind, body, norm,
-                    _in_world(task, sample.goal, frame, body_pose),
-                    _in_world(task, sample.reference, frame, body_pose), *parts)
+                else task.error_norm(value, goal))
+        return TaskView(task.name, kind, body, norm, _in_world(task, goal, frame, body_pose),
+                        _in_world(task, sample.reference, frame, body_pose), *parts)
+    return TaskView(task.name, kind, body, task.error_norm(value, goal),
+                    _in_world(task, goal, frame, body_pose),
+                    _in_world(task, sample.reference, frame, body_pose))
 
 
 def _relative(pose: pin.SE3, frame: pin.SE3 | None) -> pin.SE3:
@@ -116,15 +118,14 @@ def _in_world(task, value, frame: pin.SE3 | None, body: pin.SE3 | None) -> np.nd
     ``frame`` is the reference body's world pose (``None``: the world) and ``body`` the
     controlled body's world pose (where an orientation is drawn)."""
     if value is None:
-        return np.zeros(0)
+        return _NOTHING
     if isinstance(value, pin.SE3):
         return (frame * value if frame is not None else value).homogeneous
-    value = np.asarray(value, dtype=float)
-    if task.kind == "body_orientation":
+    if body is not None:                        # an orientation
         pose = np.eye(4)
         pose[:3, :3] = value if frame is None else frame.rotation @ value
         pose[:3, 3] = body.translation
         return pose
-    if task.kind == "body_position" and frame is not None:
+    if frame is not None and task.kind == "body_position":
         return frame.act(value)
-    return value.copy()
+    return np.array(value, dtype=float)

@@ -12,8 +12,9 @@ writer's policy:
   Python at a time, so a writer working beside it would take the interpreter from it
   over and over, each switch costing both. The writer waits until the backlog is full,
   then writes it all while the loop waits (no deadline is missed, the log stays whole).
-- :data:`WAIT` (no loop to protect: a process that only writes): batches are written
-  as they come; a full backlog makes the caller wait.
+- :data:`WAIT` (no loop to protect: a process that only writes): each batch is written
+  at once, in the caller's thread (a thread of its own would only take turns with the
+  caller for the interpreter).
 """
 
 from __future__ import annotations
@@ -28,7 +29,8 @@ MARGIN = 5e-4
 
 
 class WriterThread:
-    """Runs ``work(batch)`` in a daemon thread for each batch :meth:`put` hands over.
+    """Runs ``work(batch)`` in a daemon thread (in the caller's, for :data:`WAIT`) for
+    each batch :meth:`put` hands over.
 
     Args:
         name: The thread's name.
@@ -51,11 +53,16 @@ class WriterThread:
         self._closed = False
         self.failure: BaseException | None = None
         self._window_end = 0.0
-        self._thread = threading.Thread(target=self._run, name=name, daemon=True)
-        self._thread.start()
+        self._thread = None
+        if policy != WAIT:
+            self._thread = threading.Thread(target=self._run, name=name, daemon=True)
+            self._thread.start()
 
     def put(self, batch):
         """Hand ``batch`` over; returns the batch dropped to make room, or ``None``."""
+        if self._thread is None:
+            self._write(batch)
+            return None
         dropped = None
         with self._ready:
             if self._policy == DROP and len(self._waiting) >= self._backlog:
@@ -64,8 +71,6 @@ class WriterThread:
             self._ready.notify_all()
             if self._policy == BATCH and len(self._waiting) >= self._backlog:
                 self._ready.wait_for(lambda: not self._waiting and not self._busy)
-            elif self._policy == WAIT:
-                self._ready.wait_for(lambda: len(self._waiting) < self._backlog)
         return dropped
 
     def loop_sleeps(self, until: float | None) -> None:
@@ -89,9 +94,17 @@ class WriterThread:
         with self._ready:
             self._closed = True
             self._ready.notify_all()
-        self._thread.join()
+        if self._thread is not None:
+            self._thread.join()
         if self.failure is not None:
             raise self.failure
+
+    def _write(self, batch) -> None:
+        if self.failure is None:
+            try:
+                self._work(batch)
+            except Exception as error:  # reported by close(), in the caller's thread
+                self.failure = error
 
     def _run(self) -> None:
         draining = False
@@ -107,11 +120,7 @@ class WriterThread:
                     return
                 batch = self._waiting.popleft()
                 self._busy = draining = True
-            if self.failure is None:
-                try:
-                    self._work(batch)
-                except Exception as error:  # reported by close(), in the loop's thread
-                    self.failure = error
+            self._write(batch)
             with self._ready:
                 self._busy = False
                 draining = bool(self._waiting)

@@ -131,7 +131,7 @@ class GazeTask(BodyTask):
         found = None if watched is None else direction(pose, watched.translation)
         if found is None:
             return 0.0
-        return float(np.arccos(np.clip(self._rows[2] @ found[0], -1.0, 1.0)))
+        return math.acos(max(-1.0, min(1.0, float(self._rows[2] @ found[0]))))
 
     @property
     def error(self) -> float:
