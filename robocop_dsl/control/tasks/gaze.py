@@ -131,7 +131,8 @@ class GazeTask(BodyTask):
         found = None if watched is None else direction(pose, watched.translation)
         if found is None:
             return 0.0
-        return math.acos(max(-1.0, min(1.0, float(self._rows[2] @ found[0]))))
+        cosine = float(self._rows[2] @ found[0])
+        return math.acos(math.copysign(min(abs(cosine), 1.0), cosine))    # NaN stays NaN
 
     @property
     def error(self) -> float:
