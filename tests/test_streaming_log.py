@@ -61,14 +61,21 @@ def test_a_killed_run_keeps_every_finished_row_group(tmp_path):
     assert read_events(log)[0]["kind"] == "start"
 
 
-def test_a_finished_run_joins_its_row_groups(tmp_path):
+def logged_run(tmp_path, seconds: float):
+    """The long mission run for ``seconds`` of mission time with a :class:`RunLogger`
+    in ``tmp_path / "log"``; checks it succeeded and left no row group files."""
     mission = load_mission(write(tmp_path, "long.mission",
-                                 LONG.replace("elapsed > 600 s", "elapsed > 2.5 s")))
+                                 LONG.replace("elapsed > 600 s", f"elapsed > {seconds} s")))
     runner = mission.runner()
     runner.add_observer(RunLogger(tmp_path / "log", runner.joint_names))
     result = runner.run()
     assert result.outcome == "success"
     assert not (tmp_path / "log" / PARTS).exists()
+    return result
+
+
+def test_a_finished_run_joins_its_row_groups(tmp_path):
+    result = logged_run(tmp_path, 2.5)
     metadata = pq.ParquetFile(tmp_path / "log" / TIMESERIES).metadata
     assert metadata.num_rows == result.cycles and metadata.num_row_groups == 1
     data = read_timeseries(tmp_path / "log")
@@ -82,13 +89,7 @@ def test_row_groups_are_joined_a_minute_at_a_time_while_the_run_goes(tmp_path, m
     as the run goes (here 2 of 1 s each, so a 5.5 s run gives row groups of 2, 2 and
     the last 1.5 s), and the file holds every cycle once, in order."""
     monkeypatch.setattr("robocop_dsl.runtime.log.JOINED_GROUPS", 2)
-    mission = load_mission(write(tmp_path, "long.mission",
-                                 LONG.replace("elapsed > 600 s", "elapsed > 5.5 s")))
-    runner = mission.runner()
-    runner.add_observer(RunLogger(tmp_path / "log", runner.joint_names))
-    result = runner.run()
-    assert result.outcome == "success"
-    assert not (tmp_path / "log" / PARTS).exists()
+    result = logged_run(tmp_path, 5.5)
     assert sorted(path.name for path in (tmp_path / "log").iterdir()) == [
         "events.jsonl", TIMESERIES]
     metadata = pq.ParquetFile(tmp_path / "log" / TIMESERIES).metadata

@@ -23,11 +23,12 @@ cycles into one row group and writes it to ``timeseries.parts/`` as a file of it
 (written under a temporary name, then renamed), so memory stays flat and a killed run
 keeps every row group but the one in progress. The writer also keeps the row groups
 it wrote and joins them, a minute of mission time at a time, into one row group of
-``timeseries.parquet`` (written under a temporary name); when the run stops, that file
-is completed and the parts are removed. :func:`read_timeseries` reads either. pyarrow is imported and the schema made
-before the first cycle; in a real-time run, a writer that falls :data:`BACKLOG` row
-groups behind drops the oldest (a ``dropped`` event says which cycles) rather than hold
-up the loop; in a headless run, the loop waits for it (:mod:`~robocop_dsl.runtime.writer_thread`).
+``timeseries.parquet`` (written as :data:`JOINING` until the run stops; then it is
+completed and renamed, and the parts are removed). :func:`read_timeseries` reads
+either. pyarrow is imported and the schema made before the first cycle; in a real-time
+run, a writer that falls :data:`BACKLOG` row groups behind drops the oldest (a
+``dropped`` event says which cycles) rather than hold up the loop; in a headless run,
+the loop waits for it (:mod:`~robocop_dsl.runtime.writer_thread`).
 """
 
 from __future__ import annotations
@@ -47,6 +48,7 @@ from .writer_thread import BATCH, WriterThread
 EVENTS = "events.jsonl"
 TIMESERIES = "timeseries.parquet"
 PARTS = "timeseries.parts"
+JOINING = "timeseries.parquet.tmp"
 GROUP_DURATION = 1.0
 """Mission time [s] per row group."""
 JOINED_GROUPS = 60
@@ -239,7 +241,7 @@ class RunLogger(Observer):
         import pyarrow.parquet as pq
 
         if self._joined is None:
-            self._joined = pq.ParquetWriter(self.folder / f"{TIMESERIES}.tmp", self._schema)
+            self._joined = pq.ParquetWriter(self.folder / JOINING, self._schema)
         tables, self._unjoined = self._unjoined, []
         self._joined.write_table(pa.concat_tables(tables) if tables
                                  else self._schema.empty_table())
@@ -252,7 +254,7 @@ class RunLogger(Observer):
         self._joined.close()
         self._joined = None
         path = self.folder / TIMESERIES
-        os.replace(self.folder / f"{TIMESERIES}.tmp", path)
+        os.replace(self.folder / JOINING, path)
         shutil.rmtree(self.folder / PARTS)
         return path
 

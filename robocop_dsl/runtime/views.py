@@ -81,7 +81,7 @@ def task_views(controller) -> TaskViews:
 
 def _resolve(task, sample, target, poses: dict) -> TaskView:
     """A task's view from what was captured in its cycle."""
-    kind = _KINDS.get(task.kind, task.kind)
+    kind = view_kind(task)
     body = getattr(task, "body", None)
     value = sample.value
     if value is None:
@@ -121,7 +121,7 @@ def _in_world(task, value, frame: pin.SE3 | None, body: pin.SE3 | None) -> np.nd
         return _NOTHING
     if isinstance(value, pin.SE3):
         return (frame * value if frame is not None else value).homogeneous
-    if body is not None:                        # an orientation
+    if task.kind == "body_orientation":
         pose = np.eye(4)
         pose[:3, :3] = value if frame is None else frame.rotation @ value
         pose[:3, 3] = body.translation
