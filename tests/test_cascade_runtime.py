@@ -139,7 +139,8 @@ def test_cascaded_controllers_keep_their_periods_in_real_time():
     result = runner.run(duration=1.5, realtime=True)
     stopped = time.perf_counter()
     start = runner._wall_start
-    assert result.outcome == "stopped" and result.cycles >= 300   # then the stop's cycles
+    assert result.outcome == "stopped", result.message
+    assert result.cycles >= 300                                    # then the stop's cycles
     assert len(arms_starts.times) == 300 and len(head_starts.times) == head.cycle
     assert len(overruns.cycles) == result.overruns
     lateness = arms_starts.lateness(start, ARMS)
