@@ -128,10 +128,14 @@ def test_cascaded_controllers_keep_their_periods_in_real_time():
     late (the arms' overruns while braking after the stop have no such cycle to
     compare with); and the head's count never runs ahead of the wall clock. How late
     a loaded machine makes a cycle is not asserted: the exact interleaving is the
-    lockstep test's."""
+    lockstep test's. Such a machine can also keep a simulator's thread from running
+    for longer than a driver's state timeout (0.25 s), rightly a fault: the drivers
+    here wait 5 s (the fault is the failure-path tests' subject)."""
     mission = load_mission(MISSIONS / "pickup_cascade.mission")
     runner = mission.runner(realtime=True)
     head = runner.threads[0]
+    for driver in (runner.driver, head.driver):
+        driver.state_timeout = 5.0
     arms_starts, head_starts = Starts(runner.controller), Starts(head.controller)
     watch, overruns = HeadWatch(runner), Overruns()
     runner.add_observer(watch)
