@@ -148,3 +148,17 @@ def test_a_log_that_cannot_start_says_why(tmp_path):
     with pytest.raises(LogProcessError, match="did not start: .*cannot find world file"):
         log.prepare(info, "batch")
     log.close()
+
+
+def test_tasks_that_cannot_reach_the_writing_process_are_an_error_not_a_traceback(tmp_path):
+    """The writing process computes the task views with copies of the run's tasks: a
+    task that cannot be copied there stops the log before the run, with the reason."""
+    from robocop_dsl.ecosystem.log_process import LogProcess, LogProcessError
+    from robocop_dsl.runtime import load_mission
+
+    runner = load_mission(MISSIONS / "pickup.mission").runner()
+    runner.tasks()[0].note = lambda: None         # a lambda cannot be pickled
+    log = LogProcess(tmp_path / "log")
+    with pytest.raises(LogProcessError, match="tasks cannot be sent to the log's writing"):
+        log.prepare(runner, "batch")
+    assert log._process.poll() is not None

@@ -117,6 +117,12 @@ class ControlState:
             self._jacobians[key] = jacobian
         return jacobian
 
+    def __getstate__(self) -> dict:
+        """Pickled without its :attr:`sensors` (they read the run's driver): the state of a
+        task's copy that only reads names and poses (:meth:`Task.detached
+        <robocop_dsl.control.Task.detached>`)."""
+        return {**self.__dict__, "sensors": None}
+
     def __repr__(self) -> str:
         return f"ControlState(group={self.group.name!r}, dofs={self.dofs}, dt={self.time_step})"
 

@@ -5,8 +5,8 @@ the other core.
 
 The loop's side (:class:`LogProcess`, a run observer) hands the cycles and events over
 every :data:`PERIOD` of mission time (a headless run: every :data:`BACKLOG`, in one
-batch) to a thread that computes the task views, packs
-the cycles into arrays (:mod:`~robocop_dsl.runtime.record_batch`) and sends them down
+batch) to a thread that packs the cycles into arrays, their task views left to the
+writing process (:mod:`~robocop_dsl.runtime.record_batch`), and sends them down
 a pipe (policies as :mod:`~robocop_dsl.runtime.writer_thread`'s: a real-time run drops
 its oldest cycles rather than wait, a headless run waits). The writing process
 (``python -m robocop_dsl.ecosystem.log_process``; in a real-time run, at the idle
@@ -90,11 +90,13 @@ class LogProcess(Observer):
         self._report = None
 
     def prepare(self, runner, policy: str) -> None:
-        """Send the run's :class:`~robocop_dsl.runtime.run_info.RunInfo`; wait until the
-        process is ready to write (before the run).
+        """Send the run's :class:`~robocop_dsl.runtime.run_info.RunInfo` and copies of its
+        tasks (:meth:`~robocop_dsl.control.Task.detached`: the writing process computes the
+        task views); wait until the process is ready to write (before the run).
 
         Args:
-            runner: The run.
+            runner: The run (or a :class:`~robocop_dsl.runtime.run_info.RunInfo` alone,
+                for a run whose tasks are not logged).
             policy: What the sending thread does when :data:`BACKLOG` waits: ``drop``
                 the oldest cycles (a real-time run) or make the loop wait (``batch``).
 
@@ -102,12 +104,18 @@ class LogProcess(Observer):
             LogProcessError: the process could not start writing.
         """
         info = RunInfo.of(runner)
+        tasks = () if isinstance(runner, RunInfo) else runner.tasks()
         self._report, self._policy = info.report, policy
         try:
-            _send(self._process.stdin, ("start", self.folder, info.portable(), policy))
+            _send(self._process.stdin, ("start", self.folder, info.portable(), policy,
+                                        {task.name: task.detached() for task in tasks}))
             reply = _receive(self._process.stdout)
         except OSError:                 # it died before reading: its error is on stderr
             reply = None
+        except (pickle.PicklingError, TypeError, AttributeError) as error:
+            self.close()
+            raise LogProcessError(f"the run's tasks cannot be sent to the log's writing "
+                                  f"process: {error}") from None
         if reply is None or reply[0] != "ready":
             self._process.wait()
             raise LogProcessError("the log's writing process did not start" +
@@ -168,13 +176,10 @@ class LogProcess(Observer):
                                        self._sender.put(items))
 
     def _send(self, items: list) -> None:
-        """In the sending thread: the items as messages, cycles packed (their task
-        views computed one cycle at a time, while the loop sleeps)."""
+        """In the sending thread: the items as messages, cycles packed."""
         messages, records = [], []
         for item in items + [None]:
             if isinstance(item, CycleRecord):
-                self._sender.turn()
-                tuple(item.tasks)
                 records.append(item)
                 continue
             if records:
@@ -218,7 +223,7 @@ def main() -> None:
     start = _receive(requests)
     if start is None:
         os._exit(0)
-    _, folder, info, policy = start
+    _, folder, info, policy, tasks = start
     try:
         writers = [RunLogger(folder, info.joint_names, WAIT),
                    mcap_log(load_world(info.world_path), info.joint_names, folder, WAIT)]
@@ -244,7 +249,7 @@ def main() -> None:
         if problems:
             continue
         try:
-            for item in unpack(message[1]) if message[0] == "cycles" else [message[1]]:
+            for item in unpack(message[1], tasks) if message[0] == "cycles" else [message[1]]:
                 for writer in writers:
                     (writer.on_cycle if message[0] == "cycles" else writer.on_event)(item)
         except Exception as error:  # told at the stop; what comes after is not written

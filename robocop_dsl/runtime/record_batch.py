@@ -1,20 +1,25 @@
 """Cycle records packed for another process: a batch of
 :class:`~robocop_dsl.runtime.CycleRecord` s as a few arrays (records holding many
-small arrays pickle slowly, array after array), and back. The task views are computed
-when packing; the micro steps are left out (no writer reads them)."""
+small arrays pickle slowly, array after array), and back. The task views are not
+computed when packing: the batch carries what was captured for them (each task's
+sample and target, and the world poses its view reads), and :func:`unpack` computes
+them with copies of the tasks (:meth:`~robocop_dsl.control.Task.detached`). The micro
+steps are left out (no writer reads them)."""
 
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 
-from .records import CycleRecord, TaskView
+from ..control.tasks.base import TaskSample
+from .records import CycleRecord
+from .views import frames_read, resolve_view
 
-_TASK_FIELDS = ("error", "position_error", "orientation_error")
+_SAMPLE = ("value", "goal", "reference")
 
 
 def pack(records: list) -> dict:
     """A batch of consecutive records as arrays (and lists of their states and vars)."""
-    rows = len(records)
     batch = {
         "cycle": np.array([r.cycle for r in records], dtype=np.int64),
         "time": np.array([r.time for r in records]),
@@ -29,32 +34,53 @@ def pack(records: list) -> dict:
         "wrenches": _keyed(records, "wrenches", (6,)),
         "variables": {name: [r.variables.get(name) for r in records]
                       for name in {name for r in records for name in r.variables}},
-        "tasks": {},
     }
-    for row, record in enumerate(records):
-        for view in record.tasks:
-            task = batch["tasks"].get(view.name)
-            if task is None:
-                task = batch["tasks"][view.name] = {
-                    field: np.full(rows, np.nan) for field in _TASK_FIELDS}
-                task.update(kind=view.kind, body=view.body, target=[None] * rows,
-                            reference=[None] * rows)
-            for field in _TASK_FIELDS:
-                task[field][row] = getattr(view, field)
-            task["target"][row], task["reference"][row] = view.target, view.reference
-    for task in batch["tasks"].values():
-        for field in ("target", "reference"):
-            task[field] = _stacked(task[field])
+    batch["tasks"], batch["frames"] = _captured(records)
     return batch
 
 
-def unpack(batch: dict) -> list:
-    """The records of a :func:`pack` ed batch."""
+def _captured(records: list) -> tuple[dict, dict]:
+    """Per task name, its samples' columns (``captured`` in each row, ``value``,
+    ``goal``, ``reference``: poses as 4x4 matrices, and ``target``); per frame id, the
+    world poses the views read."""
+    rows = len(records)
+    tasks: dict = {}
+    frames: dict = {}
+    for row, record in enumerate(records):
+        for task, sample, target, poses in getattr(record.tasks, "captures", ()):
+            columns = tasks.get(task.name)
+            if columns is None:
+                columns = tasks[task.name] = {"captured": np.zeros(rows, dtype=bool),
+                                              "target": [None] * rows,
+                                              **{field: [None] * rows for field in _SAMPLE}}
+            columns["captured"][row] = True
+            columns["target"][row] = target
+            if sample.value is None:
+                continue
+            columns["value"][row], columns["goal"][row] = sample.value, sample.goal
+            columns["reference"][row] = sample.reference
+            for frame_id in frames_read(task, target):
+                column = frames.setdefault(frame_id, [None] * rows)
+                if column[row] is None:
+                    column[row] = poses[frame_id].homogeneous
+    for columns in tasks.values():
+        for field in _SAMPLE:
+            values = columns[field]
+            placed = any(isinstance(value, pin.SE3) for value in values)
+            columns[field] = (placed, _stacked([value.homogeneous if placed and value is not None
+                                                else value for value in values]))
+    return tasks, {frame_id: _stacked(column) for frame_id, column in frames.items()}
+
+
+def unpack(batch: dict, tasks: dict) -> list:
+    """The records of a :func:`pack` ed batch, their task views computed with
+    ``tasks`` (by name: the run's tasks, or copies of them)."""
     records = []
-    tasks = [(name, task["kind"], task["body"], task["error"].tolist(),
-              _rows(task["target"]), _rows(task["reference"]), _present(task["reference"]),
-              task["position_error"].tolist(), task["orientation_error"].tolist())
-             for name, task in batch["tasks"].items()]
+    captured = [(tasks[name], columns["captured"].tolist(), columns["target"],
+                 *(_samples(*columns[field]) for field in _SAMPLE))
+                for name, columns in batch["tasks"].items()]
+    frames = [(frame_id, _rows(stacked), _present(stacked))
+              for frame_id, stacked in batch["frames"].items()]
     bodies, wrenches = _measured(batch["bodies"]), _measured(batch["wrenches"])
     variables = batch["variables"].items()
     columns = (batch["cycle"].tolist(), batch["time"].tolist(), batch["state"],
@@ -63,11 +89,12 @@ def unpack(batch: dict) -> list:
                batch["cycle_time"].tolist())
     for row, (cycle, time, state, q, positions, command, solved, compute_time,
               cycle_time) in enumerate(zip(*columns)):
+        poses = {frame_id: pin.SE3(values[row]) for frame_id, values, present in frames
+                 if present[row]}
         views = tuple(
-            TaskView(name, kind, body, error[row], target[row], reference[row],
-                     position_error[row], orientation_error[row])
-            for name, kind, body, error, target, reference, present, position_error,
-            orientation_error in tasks if present[row])
+            resolve_view(task, TaskSample(cycle, value[row], goal[row], reference[row]),
+                         target[row], poses)
+            for task, present, target, value, goal, reference in captured if present[row])
         records.append(CycleRecord(
             cycle, time, state, q, positions, command, solved, views,
             {key: values[row] for key, values, present in bodies if present[row]},
@@ -76,6 +103,15 @@ def unpack(batch: dict) -> list:
             variables={name: values[row] for name, values in variables
                        if values[row] is not None}))
     return records
+
+
+def _samples(placed: bool, stacked: tuple) -> list:
+    """The rows of a packed sample column (``None`` where there is none), as ``pin.SE3``
+    when ``placed`` (the column holds poses)."""
+    rows, present = _rows(stacked), _present(stacked)
+    if placed:
+        return [pin.SE3(value) if here else None for value, here in zip(rows, present)]
+    return [value if here else None for value, here in zip(rows, present)]
 
 
 def _keyed(records: list, attribute: str, shape: tuple) -> dict:
@@ -98,16 +134,19 @@ def _measured(keyed: dict) -> list:
 
 
 def _stacked(values: list):
-    """``(shape, array)``: the values (``None`` where the task was disabled) stacked
-    when they all have one shape; else the list as is."""
-    shapes = {np.shape(value) for value in values if value is not None}
-    if len(shapes) != 1:
+    """``(shape, (array, present))``: the values (``None`` where a row has none) stacked
+    into one array, NaN where absent, when they all have one shape; else ``(None,
+    values)``."""
+    present = np.array([value is not None for value in values], dtype=bool)
+    try:
+        kept = np.array([value for value in values if value is not None], dtype=float)
+    except (ValueError, TypeError):     # values of different shapes, or not numbers
         return (None, values)
-    [shape] = shapes
-    array = np.full((len(values), *shape), np.nan)
-    present = np.array([value is not None for value in values])
-    array[present] = [value for value in values if value is not None]
-    return (shape, (array, present))
+    if not len(kept):
+        return (None, values)
+    array = np.full((len(values), *kept.shape[1:]), np.nan)
+    array[present] = kept
+    return (kept.shape[1:], (array, present))
 
 
 def _present(stacked: tuple) -> list:

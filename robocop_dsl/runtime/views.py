@@ -5,7 +5,9 @@ In the loop, :func:`task_views` only keeps references: each enabled task's
 :class:`~robocop_dsl.control.TaskSample` (what the controller computed for it that
 cycle), its target, and the mapping of world poses computed at that state. The error
 norms and the world-frame values are computed when an observer first reads the views,
-which observers that keep records (the run log) do after the run.
+which observers that keep records do after the run; the log's writing process computes
+them from the captures (:mod:`~robocop_dsl.runtime.record_batch`), with copies of the
+tasks (:meth:`~robocop_dsl.control.Task.detached`).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ _KINDS = {"joint_position": "joint", "joint_velocity": "velocity", "body_velocit
           "body_force": "force"}
 _NOTHING = np.zeros(0)
 _NOTHING.flags.writeable = False
+_ORIGIN = pin.SE3.Identity()
 
 
 class TaskViews(Sequence):
@@ -40,8 +43,13 @@ class TaskViews(Sequence):
     def _resolved(self) -> tuple:
         views = self._views
         if views is None:
-            views = self._views = tuple(_resolve(*capture) for capture in self._captures)
+            views = self._views = tuple(resolve_view(*capture) for capture in self._captures)
         return views
+
+    @property
+    def captures(self) -> tuple:
+        """``(task, sample, target, poses)`` of each view, as :func:`task_views` kept them."""
+        return self._captures
 
     def __add__(self, other: TaskViews) -> TaskViews:
         return TaskViews(self._captures + other._captures)
@@ -68,7 +76,7 @@ def view_kinds(tasks) -> tuple:
     """``(name, kind)`` of each view of ``tasks``: a :class:`TaskViews` (read without
     computing its views) or any sequence of :class:`TaskView`."""
     if isinstance(tasks, TaskViews):
-        return tuple((capture[0].name, view_kind(capture[0])) for capture in tasks._captures)
+        return tuple((capture[0].name, view_kind(capture[0])) for capture in tasks.captures)
     return tuple((view.name, view.kind) for view in tasks)
 
 
@@ -79,8 +87,24 @@ def task_views(controller) -> TaskViews:
                             for task in controller.tasks() if task.enabled]))
 
 
-def _resolve(task, sample, target, poses: dict) -> TaskView:
-    """A task's view from what was captured in its cycle."""
+def frames_read(task, target) -> list:
+    """The frames whose world poses :func:`resolve_view` reads for ``task``, with
+    ``target``, when the task has a value: its reference body, its body for a gaze or an
+    orientation, and the body a gaze watches (asked of the task itself)."""
+    reference_id = getattr(task, "reference_id", 0)
+    read = [reference_id] if reference_id else []
+    kind = view_kind(task)
+    if kind in ("gaze", "orientation"):
+        read.append(task.body_id)
+    if kind == "gaze":
+        task.locate(target, lambda frame_id: read.append(frame_id) or _ORIGIN)
+    return read
+
+
+def resolve_view(task, sample, target, poses: dict) -> TaskView:
+    """A task's view from what was captured in its cycle: its
+    :class:`~robocop_dsl.control.TaskSample`, its target and the world poses by frame id
+    (at least those of :func:`frames_read`)."""
     kind = view_kind(task)
     body = getattr(task, "body", None)
     value = sample.value

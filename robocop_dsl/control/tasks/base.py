@@ -10,6 +10,7 @@ keeps what it computed as the task's :class:`TaskSample` of that state, for obse
 
 from __future__ import annotations
 
+import copy
 from abc import ABC, abstractmethod
 from typing import NamedTuple
 
@@ -367,6 +368,15 @@ class Task(ABC):
     def orientation_error(self) -> float:
         """Norm of the rotation part of the error [rad]."""
         return float(np.linalg.norm(self.error_vector()[list(self.angular_axes)]))
+
+    def detached(self) -> Task:
+        """A copy of the task as it is now that can be pickled, to read its errors in
+        another process (:func:`~robocop_dsl.runtime.views.resolve_view`): without its
+        interpolator and feedback loop (they may hold solver objects, and no error reads
+        them)."""
+        twin = copy.copy(self)
+        twin._interpolator = twin._feedback = None
+        return twin
 
     def parameters(self) -> dict:
         """The task's parameters by name."""
