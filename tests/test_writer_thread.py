@@ -3,12 +3,14 @@ sleeps and drops its oldest batch when it falls behind (a ``dropped`` event says
 cycles); a headless one writes its backlog while the loop waits; cycles packed for the
 writing process come back as they were."""
 
+import pickle
 import threading
 import time
 
 import numpy as np
 import pytest
 
+from conftest import MISSIONS
 from robocop_dsl.ecosystem.stream import TopicStream
 from robocop_dsl.runtime import load_mission
 from robocop_dsl.runtime.record_batch import pack, unpack
@@ -156,7 +158,8 @@ def test_packed_cycles_come_back_as_they_were():
     runner.add_observer(keep)
     runner.run(duration=6.0)
     batch = keep.records[1020:1040]             # the part attached at 5.155 s
-    for before, after in zip(batch, unpack(pack(batch))):
+    copies = {task.name: task.detached() for task in runner.tasks()}
+    for before, after in zip(batch, unpack(pack(batch), copies), strict=True):
         for field in ("cycle", "time", "state", "solved", "compute_time", "cycle_time"):
             assert getattr(before, field) == getattr(after, field)
         for field in ("q", "positions", "command"):
@@ -164,10 +167,39 @@ def test_packed_cycles_come_back_as_they_were():
         assert before.body_poses.keys() == after.body_poses.keys()
         for body, pose in before.body_poses.items():
             np.testing.assert_array_equal(pose, after.body_poses[body])
-        assert [v.name for v in before.tasks] == [v.name for v in after.tasks]
-        for mine, theirs in zip(before.tasks, after.tasks):
-            assert (mine.kind, mine.body) == (theirs.kind, theirs.body)
-            np.testing.assert_array_equal([mine.error, mine.position_error],
-                                          [theirs.error, theirs.position_error])
-            np.testing.assert_array_equal(mine.target, theirs.target)
-            np.testing.assert_array_equal(mine.reference, theirs.reference)
+        assert sorted(v.name for v in before.tasks) == sorted(v.name for v in after.tasks)
+
+
+@pytest.mark.parametrize("mission, duration", [
+    ("pickup.mission", 12.0),             # joint_position, body_pose, gaze on a part
+    ("pickup_cascade.mission", 6.0),      # the head's views come from its own thread
+    ("panda_press.mission", 6.0),         # body_position, body_orientation, body_force
+    ("two_parts.mission", 6.0),
+])
+def test_the_writing_process_computes_the_views_the_run_computes(mission, duration):
+    """The log's writing process gets each task's samples, target and the poses its
+    view reads, and computes the views with pickled copies of the tasks: they are the
+    views the run itself computes."""
+    runner = load_mission(MISSIONS / mission).runner()
+    records = Keep()
+    runner.add_observer(records)
+    runner.run(duration=duration)
+    copies = pickle.loads(pickle.dumps({task.name: task.detached()
+                                        for task in runner.tasks()}))
+    kinds = set()
+    for start in range(0, len(records.records), 40):
+        batch = records.records[start:start + 40]
+        sent = pickle.loads(pickle.dumps(pack(batch)))
+        for record, received in zip(batch, unpack(sent, copies), strict=True):
+            assert received.cycle == record.cycle
+            twins = {twin.name: twin for twin in received.tasks}
+            assert len(twins) == len(record.tasks)
+            for view in record.tasks:
+                twin = twins[view.name]
+                kinds.add(view.kind)
+                assert (twin.name, twin.kind, twin.body) == (view.name, view.kind, view.body)
+                for field in ("error", "position_error", "orientation_error", "target",
+                              "reference"):
+                    assert np.array_equal(getattr(twin, field), getattr(view, field),
+                                          equal_nan=True), (record.cycle, view.name, field)
+    assert len(kinds) >= 2

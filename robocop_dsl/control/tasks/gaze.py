@@ -159,6 +159,6 @@ def direction(pose: pin.SE3, point: np.ndarray):
     """``(u, p, d)``: unit direction [-], vector [m] and distance [m] from the origin of
     ``pose`` to ``point``, in the frame of ``pose``; ``None`` when the point is at the
     origin."""
-    local = pose.rotation.T @ (point - pose.translation)
+    local = pose.actInv(point)
     distance = math.sqrt(local.dot(local))
     return None if distance < 1e-9 else (local / distance, local, distance)
