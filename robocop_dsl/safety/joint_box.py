@@ -29,8 +29,8 @@ class JointBox:
         self.limits = limits
         self.time_step = time_step
         self._n = n
-        self._acceleration = np.tile(limits.max_acceleration, 2)
-        self._speed = np.tile(limits.max_velocity, 2)
+        self._acceleration = np.concatenate((limits.max_acceleration,) * 2)
+        self._speed = np.concatenate((limits.max_velocity,) * 2)
         self._negative_speed = -self._speed
         self._step = limits.max_acceleration * time_step
         self._rate = 1.0 / time_step
@@ -38,9 +38,7 @@ class JointBox:
         share = np.where(finite, self._acceleration, 0.0) * BRAKING_SHARE
         self._braking = (2.0 * share, 0.5 * time_step * share) if finite.any() else None
         self._unlimited = np.flatnonzero(~finite)
-        self._signs = np.vstack((np.eye(n), -np.eye(n)))
         self._limit = np.concatenate((limits.upper, -np.asarray(limits.lower)))
-        self._signed = np.zeros(2 * n)
         self._distance = np.zeros(2 * n)
         self._toward = np.zeros(2 * n)
         self._bound = np.zeros(2 * n)
@@ -61,9 +59,10 @@ class JointBox:
         """
         n = self._n
         distance, toward, bound = self._distance, self._toward, self._bound
-        np.subtract(self._limit, np.dot(self._signs, positions, out=self._signed),
-                    out=distance)
-        np.dot(self._signs, previous, out=toward)
+        np.subtract(self._limit[:n], positions, out=distance[:n])
+        np.add(self._limit[n:], positions, out=distance[n:])
+        toward[:n] = previous
+        np.negative(previous, out=toward[n:])
         np.multiply(distance, self._rate, out=bound)
         if self._braking is not None:
             two_a, half_step = self._braking

@@ -134,15 +134,19 @@ class Task(ABC):
         return jacobian, feedforward + self._feedback.compute(self.tracking_error)
 
     def _start(self, state: ControlState, jacobian: np.ndarray, value) -> None:
+        """Start from ``value``: the interpolator from it and its current rate (a
+        pass-through interpolator has nothing to start)."""
         self._restart = False
         self._held = value.copy() if isinstance(self._target, Current) else None
+        self._feedback.reset()
+        if self._interpolator.passthrough:
+            return
         self._chart = self.chart_for(value)
         if self.order == 0:
             rate = self._chart.rate(jacobian @ state.velocity)
             self._interpolator.restart(self._chart.to_vector(value), rate)
         else:
             self._interpolator.restart(value, np.zeros(self.dimension))
-        self._feedback.reset()
 
     def _goal(self, state: ControlState, value=None):
         """The target's value this cycle; for ``CURRENT``, the value held since the
