@@ -84,7 +84,7 @@ def test_a_finished_run_joins_its_row_groups(tmp_path):
     assert list(data).index("error.arms") < list(data).index("error.left_tool")
 
 
-def test_row_groups_are_joined_a_minute_at_a_time_while_the_run_goes(tmp_path, monkeypatch):
+def test_row_groups_are_joined_while_the_run_goes(tmp_path, monkeypatch):
     """Every :data:`JOINED_GROUPS` row groups become one row group of the joined file
     as the run goes (here 2 of 1 s each, so a 5.5 s run gives row groups of 2, 2 and
     the last 1.5 s), and the file holds every cycle once, in order."""

@@ -3,12 +3,13 @@ of its own, as ``run --log`` does: only one thread of a process runs Python at a
 so writers in the loop's process take turns with it; in their own process they work on
 the other core.
 
-The loop's side (:class:`LogProcess`, a run observer) hands the cycles and events over
-every :data:`PERIOD` of mission time (a headless run: every :data:`BACKLOG`, in one
-batch) to a thread that packs the cycles into arrays, their task views left to the
-writing process (:mod:`~robocop_dsl.runtime.record_batch`), and sends them down
-a pipe (policies as :mod:`~robocop_dsl.runtime.writer_thread`'s: a real-time run drops
-its oldest cycles rather than wait, a headless run waits). The writing process
+The loop's side (:class:`LogProcess`, a run observer) packs the cycles into arrays,
+their task views left to the writing process (:mod:`~robocop_dsl.runtime.record_batch`),
+and sends them and the events down a pipe: in a real-time run, every :data:`PERIOD`
+of mission time, from a thread that works while the loop sleeps and drops the oldest
+cycles rather than make the loop wait (:mod:`~robocop_dsl.runtime.writer_thread`); in
+a headless run, every :data:`BACKLOG`, in the loop's own thread (the loop never
+sleeps: a thread beside it would only take turns with it). The writing process
 (``python -m robocop_dsl.ecosystem.log_process``; in a real-time run, at the idle
 priority: see :func:`_yield_to_the_loop`) runs a
 :class:`~robocop_dsl.runtime.RunLogger` and the ``run.mcap`` writer on them. Neither
@@ -27,6 +28,7 @@ import signal
 import struct
 import subprocess
 import sys
+import threading
 import traceback
 from pathlib import Path
 
@@ -128,7 +130,8 @@ class LogProcess(Observer):
         if self._policy == BATCH:     # the loop waits for each batch: make it one
             self._period = self._next = BACKLOG
         self._sender = WriterThread("run log sender", self._send,
-                                    max(1, round(BACKLOG / self._period)), self._policy)
+                                    max(1, round(BACKLOG / self._period)),
+                                    WAIT if self._policy == BATCH else self._policy)
 
     def close(self) -> None:
         """End the process if the run did not (a run that never started)."""
@@ -148,7 +151,8 @@ class LogProcess(Observer):
         self._items.append(event)
 
     def on_stop(self, result) -> None:
-        """Send the last cycles, let the process finish the log and wait for it."""
+        """Send the last cycles and wait until the process has finished the log (its
+        exit is reaped in a thread: the files are complete once it replied)."""
         if self._sender is None:
             self.close()
             return
@@ -164,7 +168,8 @@ class LogProcess(Observer):
             self._sender = None
             with contextlib.suppress(OSError):
                 self._process.stdin.close()
-            self._process.wait()
+            threading.Thread(target=self._process.wait, name="run log reaper",
+                             daemon=True).start()
         if problems:
             raise LogProcessError("; ".join(problems))
 

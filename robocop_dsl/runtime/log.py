@@ -22,7 +22,7 @@ The time series is streamed: every second of mission time a writer thread turns 
 cycles into one row group and writes it to ``timeseries.parts/`` as a file of its own
 (written under a temporary name, then renamed), so memory stays flat and a killed run
 keeps every row group but the one in progress. The writer also keeps the row groups
-it wrote and joins them, a minute of mission time at a time, into one row group of
+it wrote and joins them, ten seconds of mission time at a time, into one row group of
 ``timeseries.parquet`` (written as :data:`JOINING` until the run stops; then it is
 completed and renamed, and the parts are removed). :func:`read_timeseries` reads
 either. pyarrow is imported and the schema made before the first cycle; in a real-time
@@ -51,8 +51,9 @@ PARTS = "timeseries.parts"
 JOINING = "timeseries.parquet.tmp"
 GROUP_DURATION = 1.0
 """Mission time [s] per row group."""
-JOINED_GROUPS = 60
-"""Row group files per row group of the joined ``timeseries.parquet``."""
+JOINED_GROUPS = 10
+"""Row group files per row group of the joined ``timeseries.parquet`` (what the end of
+a run has left to join at most)."""
 DEFAULT_ROWS = 200
 """Rows per row group when the run's period is not known."""
 BACKLOG = 4
@@ -133,13 +134,15 @@ class RunLogger(Observer):
 
     def on_stop(self, result) -> None:
         self._events.close()
-        self._hand_over()
         if self._writer is None:
-            if self._tasks is None:
+            if self._tasks is None and not self._batch:
                 return
-            self._open([])
+            self._open(self._batch)
         try:
             self._writer.close()
+            if self._batch:         # the last rows go to the joined file only
+                self._unjoined.append(self._table(self._batch))
+                self._batch = []
         finally:
             self._writer = None
         self._join_parts()

@@ -46,6 +46,7 @@ def _captured(records: list) -> tuple[dict, dict]:
     rows = len(records)
     tasks: dict = {}
     frames: dict = {}
+    read: dict = {}             # per task name: the latest target and the frames it reads
     for row, record in enumerate(records):
         for task, sample, target, poses in getattr(record.tasks, "captures", ()):
             columns = tasks.get(task.name)
@@ -59,7 +60,10 @@ def _captured(records: list) -> tuple[dict, dict]:
                 continue
             columns["value"][row], columns["goal"][row] = sample.value, sample.goal
             columns["reference"][row] = sample.reference
-            for frame_id in frames_read(task, target):
+            latest = read.get(task.name)
+            if latest is None or latest[0] is not target:
+                latest = read[task.name] = (target, frames_read(task, target))
+            for frame_id in latest[1]:
                 column = frames.setdefault(frame_id, [None] * rows)
                 if column[row] is None:
                     column[row] = poses[frame_id].homogeneous
