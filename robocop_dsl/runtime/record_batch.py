@@ -46,34 +46,51 @@ def _captured(records: list) -> tuple[dict, dict]:
     rows = len(records)
     tasks: dict = {}
     frames: dict = {}
-    read: dict = {}             # per task name: the latest target and the frames it reads
     for row, record in enumerate(records):
         for task, sample, target, poses in getattr(record.tasks, "captures", ()):
             columns = tasks.get(task.name)
             if columns is None:
-                columns = tasks[task.name] = {"captured": np.zeros(rows, dtype=bool),
-                                              "target": [None] * rows,
-                                              **{field: [None] * rows for field in _SAMPLE}}
-            columns["captured"][row] = True
-            columns["target"][row] = target
-            if sample.value is None:
+                columns = tasks[task.name] = _TaskColumns(rows)
+            columns.captured[row] = True
+            columns.target[row] = target
+            value = sample.value
+            if value is None:
                 continue
-            columns["value"][row], columns["goal"][row] = sample.value, sample.goal
-            columns["reference"][row] = sample.reference
-            latest = read.get(task.name)
-            if latest is None or latest[0] is not target:
-                latest = read[task.name] = (target, frames_read(task, target))
-            for frame_id in latest[1]:
-                column = frames.setdefault(frame_id, [None] * rows)
+            columns.value[row], columns.goal[row] = value, sample.goal
+            columns.reference[row] = sample.reference
+            if columns.read is None or columns.read_for is not target:
+                columns.read_for, columns.read = target, frames_read(task, target)
+            for frame_id in columns.read:
+                column = frames.get(frame_id)
+                if column is None:
+                    column = frames[frame_id] = [None] * rows
                 if column[row] is None:
                     column[row] = poses[frame_id].homogeneous
-    for columns in tasks.values():
+    return ({name: columns.packed() for name, columns in tasks.items()},
+            {frame_id: _stacked(column) for frame_id, column in frames.items()})
+
+
+class _TaskColumns:
+    """One task's captures in a batch, row by row (``None`` where it has none), and the
+    frames its latest target reads."""
+
+    __slots__ = ("captured", "target", "value", "goal", "reference", "read_for", "read")
+
+    def __init__(self, rows: int):
+        self.captured = [False] * rows
+        self.target = [None] * rows
+        self.value, self.goal, self.reference = [None] * rows, [None] * rows, [None] * rows
+        self.read_for = self.read = None
+
+    def packed(self) -> dict:
+        """The columns as :func:`_captured` gives them."""
+        columns = {"captured": np.array(self.captured, dtype=bool), "target": self.target}
         for field in _SAMPLE:
-            values = columns[field]
-            placed = any(isinstance(value, pin.SE3) for value in values)
+            values = getattr(self, field)
+            placed = isinstance(next((v for v in values if v is not None), None), pin.SE3)
             columns[field] = (placed, _stacked([value.homogeneous if placed and value is not None
                                                 else value for value in values]))
-    return tasks, {frame_id: _stacked(column) for frame_id, column in frames.items()}
+        return columns
 
 
 def unpack(batch: dict, tasks: dict) -> list:
