@@ -208,21 +208,27 @@ class CollisionScene:
         if self._placed == self._stamp:
             return
         kinematics = self._kinematics
-        bound = self._bound_to
-        if bound is None or bound[0] is not kinematics or bound[1] != kinematics.placements:
-            self._bound_to = (kinematics, kinematics.placements)
-            frames = kinematics.model.frames
-            joints = []
-            for obj, shape, frame_id in zip(self.model.geometryObjects, self.shapes,
-                                            self._frame_of):
-                frame = frames[frame_id]
-                obj.parentJoint = frame.parentJoint
-                obj.placement = frame.placement * shape.offset
-                joints.append(frame.parentJoint)
-            supports = kinematics.supports[np.array(joints, dtype=int)]
-            self._pair_signs = supports[self.second] - supports[self.first]
+        self._bind(kinematics)
         pin.updateGeometryPlacements(kinematics.model, kinematics.data, self.model, self.data)
         self._placed = self._stamp
+
+    def _bind(self, kinematics) -> None:
+        """Hang every shape on the joint its body's frame hangs on in ``kinematics`` now
+        (once per set of frame placements)."""
+        key = (kinematics, kinematics.placements)
+        if self._bound_to == key:
+            return
+        self._bound_to = key
+        frames = kinematics.model.frames
+        joints = []
+        for obj, shape, frame_id in zip(self.model.geometryObjects, self.shapes,
+                                        self._frame_of):
+            frame = frames[frame_id]
+            obj.parentJoint = frame.parentJoint
+            obj.placement = frame.placement * shape.offset
+            joints.append(frame.parentJoint)
+        supports = kinematics.supports[np.array(joints, dtype=int)]
+        self._pair_signs = supports[self.second] - supports[self.first]
 
     def measure(self, indices: np.ndarray) -> Nearby:
         """Coal's distances, closest points and normals of shape pairs ``indices`` (an
@@ -288,6 +294,7 @@ class CollisionScene:
         shape_reach = reach(kinematics.model, self._frame_of, self._centers, self._half)
         self._pair_reach = shape_reach[self.first] + shape_reach[self.second]
         self._levers = np.maximum(self._pair_reach.max(axis=1, initial=0.0), 1e-12)
+        self._bind(kinematics)
         self._prepared_for = key
 
     def nearby(self, kinematics, within) -> Nearby:
