@@ -325,19 +325,20 @@ class CollisionScene:
             self.prepare(kinematics)
             self._reference = q.copy()
             self._renew_all(kinematics)
-            moved[:] = 0.0
+            lower = self._lower
+            candidates = np.flatnonzero(lower < within)
         else:
             np.subtract(q, self._reference, out=moved)
             np.abs(moved, out=moved)
             if (within is self._within or _same(within, self._within)) \
                     and moved.dot(self._ones) < self._still:
                 return _closer(self.measure(self._was_near), self._was_near_within)
-        lower = self._lower - self._pair_reach @ moved
-        candidates = np.flatnonzero(lower < within)
-        if _new_pairs(candidates, self._was_near, self.size) > _MEASURED_ALONE:
-            self._renew_all(kinematics)
-            lower = self._lower
+            lower = self._lower - self._pair_reach @ moved
             candidates = np.flatnonzero(lower < within)
+            if _new_pairs(candidates, self._was_near, self.size) > _MEASURED_ALONE:
+                self._renew_all(kinematics)
+                lower = self._lower
+                candidates = np.flatnonzero(lower < within)
         measured = self.measure(candidates)
         lower[candidates] = measured.distances
         found = _closer(measured, within[candidates] if np.ndim(within) else within)
