@@ -162,3 +162,21 @@ def test_tasks_that_cannot_reach_the_writing_process_are_an_error_not_a_tracebac
     with pytest.raises(LogProcessError, match="tasks cannot be sent to the log's writing"):
         log.prepare(runner, "batch")
     assert log._process.poll() is not None
+
+
+def test_the_log_is_whole_when_the_run_returns_and_its_process_then_ends_by_itself(tmp_path):
+    """The run waits for the writing process's reply that the files are closed, not for
+    its exit: when ``run`` returns, the time series and ``run.mcap`` hold every cycle,
+    and the process then ends on its own, with code 0."""
+    from robocop_dsl.ecosystem.log_process import LogProcess
+    from robocop_dsl.runtime import load_mission
+
+    runner = load_mission(MISSIONS / "pickup.mission").runner()
+    log = LogProcess(tmp_path / "log")
+    runner.observers.append(log)
+    result = runner.run(duration=1.0)
+    log.close()                         # as the command does once the run returned
+    data = read_timeseries(tmp_path / "log")
+    np.testing.assert_array_equal(data["cycle"], np.arange(result.cycles))
+    assert len(read_mcap(tmp_path / "log" / "run.mcap")["/joint_states"]) == result.cycles
+    assert log._process.wait() == 0

@@ -90,6 +90,7 @@ class LogProcess(Observer):
         self._next = PERIOD
         self._sender: WriterThread | None = None
         self._report = None
+        self._ended = False
 
     def prepare(self, runner, policy: str) -> None:
         """Send the run's :class:`~robocop_dsl.runtime.run_info.RunInfo` and copies of its
@@ -135,7 +136,7 @@ class LogProcess(Observer):
 
     def close(self) -> None:
         """End the process if the run did not (a run that never started)."""
-        if self._process.poll() is None:
+        if not self._ended and self._process.poll() is None:
             self._process.kill()
             self._process.wait()
 
@@ -168,6 +169,7 @@ class LogProcess(Observer):
             self._sender = None
             with contextlib.suppress(OSError):
                 self._process.stdin.close()
+            self._ended = True          # it ends on its own, at the latest at end of input
             threading.Thread(target=self._process.wait, name="run log reaper",
                              daemon=True).start()
         if problems:
