@@ -100,8 +100,9 @@ class LogProcess(Observer):
         Args:
             runner: The run (or a :class:`~robocop_dsl.runtime.run_info.RunInfo` alone,
                 for a run whose tasks are not logged).
-            policy: What the sending thread does when :data:`BACKLOG` waits: ``drop``
-                the oldest cycles (a real-time run) or make the loop wait (``batch``).
+            policy: ``drop``: a real-time run, whose sending thread drops the oldest
+                cycles when :data:`BACKLOG` waits; ``batch``: a headless run, whose loop
+                sends its cycles itself, every :data:`BACKLOG`.
 
         Raises:
             LogProcessError: the process could not start writing.
@@ -128,7 +129,7 @@ class LogProcess(Observer):
         if self._policy is None:
             self.prepare(runner, BATCH)
         self._runner = runner
-        if self._policy == BATCH:     # the loop waits for each batch: make it one
+        if self._policy == BATCH:     # the loop sends its cycles itself: one batch a second
             self._period = self._next = BACKLOG
         self._sender = WriterThread("run log sender", self._send,
                                     max(1, round(BACKLOG / self._period)),
