@@ -24,6 +24,7 @@ WORLD = (".yaml", ".yml")
 URDF = (".urdf", ".xml", ".srdf")
 _KIND_NAMES = {MISSION: "a mission", WORLD: "a YAML", URDF: "a URDF"}
 _BREAKS = {MISSION: MISSION_BREAKS, WORLD: YAML_BREAKS, URDF: XML_BREAKS}
+_LONE_RETURN = re.compile(r"\r(?!\n)")
 _XML_ENCODING = re.compile(rb"""^(?:\xef\xbb\xbf)?<\?xml[^>]*?encoding\s*=\s*["']([A-Za-z0-9._-]+)["']""")
 
 
@@ -37,6 +38,12 @@ class UnreadableSource(DiagnosticError):
         self.path, self.reason = path, reason
         super().__init__([Diagnostic("unreadable-file", f"cannot read the file: {reason}",
                                      path, span or Span.point(1), source_line=source_line)])
+
+
+def editor_lines(text: str) -> str:
+    """``text`` with each lone carriage return made a line feed (the length unchanged):
+    a mission's lines are those an editor shows, where a ``\\r`` alone ends a line too."""
+    return _LONE_RETURN.sub("\n", text) if "\r" in text else text
 
 
 def kind_of(path: str | Path) -> tuple[str, ...] | None:

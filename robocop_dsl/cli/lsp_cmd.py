@@ -2,7 +2,7 @@
 
 Editors' language clients name the transport they want on the command line:
 ``--stdio`` is served; ``--socket=N``, ``--pipe=NAME`` and ``--node-ipc`` are refused
-(exit code 2, saying so); ``--clientProcessId=N`` is accepted and not used.
+(exit code 2, saying so); ``--clientProcessId=N`` names the editor's process: the server exits once it is gone.
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--node-ipc", nargs=0, action=_Refused,
                         help="refused: Node's IPC channel is not served")
     parser.add_argument("--clientProcessId", metavar="PID", type=int,
-                        help="the editor's process id (accepted, not used)")
+                        help="the editor's process id: exit once it has ended")
     parser.set_defaults(command=run)
 
 
@@ -45,8 +45,10 @@ def run(args) -> int:
     """Serve until the editor sends ``exit`` (the process ends at once) or closes the
     connection. The server writes to a copy of standard output, which it closes on
     exit; the command's own stays usable."""
+    from ..lsp import parent
     from ..lsp.server import build_server
 
+    parent.watch(args.clientProcessId)
     with os.fdopen(os.dup(sys.stdout.fileno()), "wb") as output:
         build_server().start_io(sys.stdin.buffer, output)
     return 0

@@ -22,7 +22,7 @@ from lark.lark import PostLex
 
 from ..diagnostics import Diagnostic, SourceFile, Span
 from ..resources import GRAMMAR_DIR, private_cache_file
-from ..sources import MISSION, read_source
+from ..sources import MISSION, editor_lines, read_source
 from . import ast
 from .syntax_errors import (RESERVED, UNCLOSED, Recovery, closed_by_layout, code_of,
                             layout_closings)
@@ -131,6 +131,7 @@ def parse_mission(text: str, path: str | Path = "<mission>",
             return placed
         padded = parse_mission("\n" * (first_line - 1) + text, path)
         return dataclasses.replace(padded, source=placed.source)
+    text = editor_lines(text)
     source = SourceFile(str(path), text)
     mission, diagnostics, unclosed = _parse(text, source)
     if unclosed:

@@ -10,11 +10,13 @@ import re
 from pathlib import Path
 
 from lsprotocol import types
+from pygls.exceptions import JsonRpcInvalidParams
 
 from ..diagnostics import Diagnostic, Span
 from ..lang import ast
 from .fixes import Fix, fixes
-from .positions import Encoding, location, path_to_uri, to_range, uri_to_path
+from .positions import (Encoding, location, path_to_uri, to_range, unknown_document,
+                        uri_to_path)
 from .project import Parsed, Project
 
 SOURCE = "robocop-mission"
@@ -62,18 +64,53 @@ def fix_data(found: list[Fix]) -> list[dict] | None:
 
 
 def code_actions(found: list[types.Diagnostic], encoding: Encoding) -> list[types.CodeAction]:
-    """The quick fixes that the diagnostics ``found`` carry in their ``data``."""
+    """The quick fixes that this server's diagnostics among ``found`` carry in their
+    ``data``. Raises :class:`~pygls.exceptions.JsonRpcInvalidParams` for ``data`` this
+    server did not write: not a list of fixes, or a fix outside its file."""
     actions = []
     for diagnostic in found:
-        for fix in diagnostic.data or []:
+        if diagnostic.source != SOURCE:
+            continue
+        for fix in _fixes_of(diagnostic.data):
+            path = uri_to_path(fix["uri"])
             span = Span(fix["line"], fix["column"], fix["end_line"], fix["end_column"])
-            edit = encoding.edit(uri_to_path(fix["uri"]), types.TextEdit(to_range(span),
-                                                                         fix["text"]))
+            _within(encoding, path, span)
+            edit = encoding.edit(path, types.TextEdit(to_range(span), fix["text"]))
             actions.append(types.CodeAction(
                 fix["title"], kind=types.CodeActionKind.QuickFix, diagnostics=[diagnostic],
                 is_preferred=fix["preferred"] or None,
                 edit=types.WorkspaceEdit(changes={fix["uri"]: [edit]})))
     return actions
+
+
+_FIX_FIELDS = {"title": str, "uri": str, "line": int, "column": int, "end_line": int,
+               "end_column": int, "text": str, "preferred": bool}
+
+
+def _fixes_of(data) -> list[dict]:
+    """The fixes of a diagnostic's ``data`` as :func:`fix_data` wrote them."""
+    if data is None:
+        return []
+    if not isinstance(data, list) or not all(
+            isinstance(fix, dict) and all(isinstance(fix.get(key), kind)
+                                          for key, kind in _FIX_FIELDS.items())
+            for fix in data):
+        raise JsonRpcInvalidParams("a diagnostic's data is not this server's quick fixes: "
+                                   f"each needs {', '.join(_FIX_FIELDS)}")
+    return data
+
+
+def _within(encoding: Encoding, path: Path, span: Span) -> None:
+    """Refuse a fix whose span is not in the current text of its file."""
+    source = encoding.source(path)
+    if source is None:
+        raise JsonRpcInvalidParams(unknown_document(path))
+    ends = ((span.line, span.column), (span.end_line, span.end_column))
+    if not all(1 <= line <= source.line_count and 1 <= column <= len(source.line(line)) + 1
+               for line, column in ends) or ends[1] < ends[0]:
+        raise JsonRpcInvalidParams(f"a quick fix's range {span.line}:{span.column}-"
+                                   f"{span.end_line}:{span.end_column} is not in "
+                                   f"{path.name} (lines 1 to {source.line_count})")
 
 
 def convert(project: Project, parsed: Parsed, diagnostic: Diagnostic) -> types.Diagnostic:

@@ -33,8 +33,46 @@ def location(path: Path, span: Span | None) -> types.Location:
     return types.Location(uri=path_to_uri(path), range=to_range(span))
 
 
+class Spellings:
+    """The names the client gives files. Inside the server a file is its resolved path
+    (one file, one key, whatever links lead to it); what goes back to the client names
+    it as the client does: an open document by the URI it was opened with, a file under
+    a workspace folder under that folder's own path (a folder reached through a
+    symbolic link keeps the link's name)."""
+
+    def __init__(self):
+        self._open: dict[Path, str] = {}
+        self._folders: list[tuple[Path, Path]] = []
+
+    def opened(self, uri: str) -> Path:
+        """Remember the URI of an open document; its resolved path."""
+        path = uri_to_path(uri)
+        self._open[path] = uri
+        return path
+
+    def closed(self, path: Path) -> None:
+        self._open.pop(path, None)
+
+    def folders(self, uris: list[str]) -> list[Path]:
+        """Remember the workspace folders' URIs; their resolved paths."""
+        self._folders = [(uri_to_path(uri), Path(to_fs_path(uri) or uri)) for uri in uris]
+        return [resolved for resolved, _ in self._folders]
+
+    def uri(self, path: Path) -> str:
+        if path in self._open:
+            return self._open[path]
+        for resolved, spelled in self._folders:
+            if resolved != spelled and path.is_relative_to(resolved):
+                return from_fs_path(str(spelled / path.relative_to(resolved)))
+        return from_fs_path(str(path))
+
+
+SPELLINGS = Spellings()
+"""The client's names of the files of this server's process (one client per server)."""
+
+
 def path_to_uri(path: Path) -> str:
-    return from_fs_path(str(path))
+    return SPELLINGS.uri(path)
 
 
 def uri_to_path(uri: str) -> Path:

@@ -1,16 +1,21 @@
 """The JSON-RPC side of the server: pygls's protocol, with a request whose parameters
-are not valid (a negative position, one past 2^31 - 1, a missing field) answered by an
-error that says what is wrong instead of being dropped, and the documents' texts left
-to the server (pygls's own copies, rebuilt line by line at each change, are not
-kept)."""
+are not valid (a negative position, one past 2^31 - 1, a missing field), a message that
+is not a request, a notification or a response, and a request after ``shutdown``
+answered by an error that says what is wrong instead of being dropped, and the
+documents' texts left to the server (pygls's own copies, rebuilt line by line at each
+change, are not kept)."""
 
 from __future__ import annotations
 
 import logging
 
 from lsprotocol import types
-from pygls.exceptions import JsonRpcInvalidParams, JsonRpcRequestCancelled
+from pygls.exceptions import (JsonRpcInvalidParams, JsonRpcInvalidRequest,
+                              JsonRpcParseError, JsonRpcRequestCancelled)
 from pygls.protocol import LanguageServerProtocol, lsp_method
+
+_MESSAGE_KEYS = ("method", "result", "error")
+"""A JSON-RPC message has one of these: a request or notification, or a response."""
 
 
 class _Answered:
@@ -31,20 +36,42 @@ class MissionProtocol(LanguageServerProtocol):
     """pygls's language server protocol; malformed requests get an error reply."""
 
     def structure_message(self, data: dict):
+        if "jsonrpc" in data and "id" in data and not any(k in data for k in _MESSAGE_KEYS):
+            return self._refuse(data["id"], JsonRpcInvalidRequest(
+                "invalid message: it has no 'method', 'result' or 'error'"))
         kind = self.get_message_type(data.get("method", "")) if "jsonrpc" in data else None
         if kind is None or "id" not in data:
             return super().structure_message(data)
         try:
             return self._converter.structure(data, kind)
         except Exception as error:
-            reply = JsonRpcInvalidParams(f"invalid {data['method']} request: "
-                                         + " ".join(_reasons(error)))
-            self._send_response(data["id"], error=reply.to_response_error())
-            return _Answered()
+            return self._refuse(data["id"], JsonRpcInvalidParams(
+                f"invalid {data['method']} request: " + " ".join(_reasons(error))))
 
     def handle_message(self, message):
-        if not isinstance(message, _Answered):
-            super().handle_message(message)
+        if isinstance(message, _Answered):
+            return
+        if isinstance(message, dict):       # an object without "jsonrpc"
+            if "id" in message:
+                self._refuse(message["id"], JsonRpcInvalidRequest(
+                    "invalid message: it has no 'jsonrpc' version"))
+            return
+        if (self._shutdown and getattr(message, "method", types.EXIT) != types.EXIT
+                and hasattr(message, "id")):
+            self._refuse(message.id, JsonRpcInvalidRequest(
+                f"{message.method}: the server is shut down (only 'exit' is accepted)"))
+            return
+        super().handle_message(message)
+
+    def refuse_unreadable(self, error: BaseException) -> None:
+        """Answer a message that is not JSON with a parse error (it has no id to answer)."""
+        reply = JsonRpcParseError(f"the message is not JSON: {error}")
+        self._send_data({"jsonrpc": self.VERSION, "id": None,
+                         "error": {"code": reply.code, "message": reply.message}})
+
+    def _refuse(self, msg_id, error) -> _Answered:
+        self._send_response(msg_id, error=error.to_response_error())
+        return _Answered()
 
     def _to_server(self, method: str, params):
         if (handler := self.fm.features.get(method)) is not None:

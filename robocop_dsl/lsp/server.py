@@ -11,6 +11,7 @@ agreed at initialization (:class:`~.positions.Encoding`)."""
 from __future__ import annotations
 
 import asyncio
+import json
 import logging
 import os
 import stat
@@ -27,10 +28,11 @@ from pygls.lsp.server import LanguageServer
 
 from .. import __version__
 from ..check import Cancelled
+from ..sources import editor_lines
 from . import (checking, completion, diagnostics, folding, formatting, hover, navigation,
-               semantic_tokens, signatures, symbols)
+               parent, semantic_tokens, signatures, symbols)
 from .changes import Texts
-from .positions import Encoding, path_to_uri, unknown_document, uri_to_path
+from .positions import SPELLINGS, Encoding, path_to_uri, unknown_document, uri_to_path
 from .project import COLLECTOR, Project
 from .protocol import MissionProtocol, Refusals
 from .scheduler import Checks
@@ -77,6 +79,14 @@ class MissionServer(LanguageServer):
         await loop.connect_read_pipe(lambda: asyncio.StreamReaderProtocol(reader), stdin)
         await run_async(stop_event=self._stop_event, reader=reader, protocol=self.protocol,
                         error_handler=self.report_server_error)
+
+    def report_server_error(self, error: Exception, source) -> None:
+        """A message that is not JSON gets a parse error reply; anything else, pygls's
+        report to the user."""
+        if isinstance(error, json.JSONDecodeError):
+            self.protocol.refuse_unreadable(error)
+        else:
+            super().report_server_error(error, source)
 
     # ---- threads ----
     async def answer(self, work: Callable, *args):
@@ -163,28 +173,36 @@ def build_server() -> MissionServer:
     project = server.project
     logging.getLogger("pygls.protocol.json_rpc").addFilter(Refusals())
 
+    @server.feature(types.INITIALIZE)
+    def initialize(ls: MissionServer, params: types.InitializeParams):
+        parent.watch(params.process_id)
+
     @server.feature(types.INITIALIZED)
     def initialized(ls: MissionServer, params: types.InitializedParams):
         ls._loop = asyncio.get_running_loop()
         ls.texts = Texts(ls.encoding().units)
-        folders = ls.workspace.folders.values()
-        project.roots = [uri_to_path(f.uri) for f in folders]
-        if not project.roots and ls.workspace.root_path:
-            project.roots = [Path(ls.workspace.root_path).resolve()]
+        folders = [f.uri for f in ls.workspace.folders.values()]
+        if not folders and ls.workspace.root_uri:
+            folders = [ls.workspace.root_uri]
+        project.roots = SPELLINGS.folders(folders)
 
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
     def did_open(ls: MissionServer, params: types.DidOpenTextDocumentParams):
-        path = uri_to_path(params.text_document.uri)
-        project.open[path] = params.text_document.text
+        path = SPELLINGS.opened(params.text_document.uri)
+        project.open[path] = editor_lines(params.text_document.text)
         ls.checks.versions[path] = params.text_document.version
         ls.checks.request(path, 0)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
     def did_change(ls: MissionServer, params: types.DidChangeTextDocumentParams):
         path = uri_to_path(params.text_document.uri)
-        text = project.open.get(path, "")
+        text = project.open.get(path)
+        if text is None:        # a notification has no answer: the reason goes to the log
+            ls.window_log_message(types.LogMessageParams(
+                types.MessageType.Warning, f"change to {path} ignored: it is not open"))
+            return
         for change in params.content_changes:
-            text = ls.texts.apply(text, change)
+            text = editor_lines(ls.texts.apply(text, change))
         project.open[path] = text
         ls.checks.versions[path] = params.text_document.version
         ls.checks.request(path)
@@ -202,6 +220,7 @@ def build_server() -> MissionServer:
         path = uri_to_path(params.text_document.uri)
         project.open.pop(path, None)
         project.forget(path)
+        SPELLINGS.closed(path)
         ls.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=params.text_document.uri, diagnostics=[]))
         ls.recheck_open()
@@ -297,7 +316,10 @@ def build_server() -> MissionServer:
                     types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]))
     async def code_action(ls: MissionServer, params: types.CodeActionParams):
         def work():
-            return diagnostics.code_actions(params.context.diagnostics, ls.encoding())
+            encoding, path = ls.encoding(), ls.document(params)
+            for end in (params.range.start, params.range.end):
+                encoding.decode(path, end)
+            return diagnostics.code_actions(params.context.diagnostics, encoding)
         return await ls.answer(work)
 
     @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
