@@ -3,6 +3,7 @@ sleeps and drops its oldest batch when it falls behind (a ``dropped`` event says
 cycles); a headless one writes its backlog while the loop waits; cycles packed for the
 writing process come back as they were."""
 
+import json
 import pickle
 import threading
 import time
@@ -14,7 +15,7 @@ from conftest import MISSIONS
 from robocop_dsl.ecosystem.stream import TopicStream
 from robocop_dsl.runtime import load_mission
 from robocop_dsl.runtime.record_batch import pack, unpack
-from robocop_dsl.runtime.records import CycleRecord, Observer
+from robocop_dsl.runtime.records import CycleRecord, Event, Observer
 from robocop_dsl.runtime.writer_thread import BATCH, DROP, WAIT, WriterThread
 
 
@@ -33,6 +34,28 @@ def test_a_real_time_writer_drops_its_oldest_batch():
     release.set()
     writer.close()
     assert written == [0, 3, 4]
+
+
+def test_what_a_real_time_writer_keeps_of_a_dropped_batch_goes_on_with_the_next():
+    started, release, written = threading.Event(), threading.Event(), []
+
+    def work(batch):
+        started.set()
+        release.wait()
+        written.append(batch)
+
+    def keep(batch):
+        return [item for item in batch if isinstance(item, str)]
+
+    writer = WriterThread("test", work, 1, DROP, keep=keep)
+    writer.put([0])
+    started.wait()
+    assert writer.put([1, "enter a"]) is None
+    assert writer.put([2, "enter b", 3]) == [1, "enter a"]
+    assert writer.put([4]) == ["enter a", 2, "enter b", 3]
+    release.set()
+    writer.close()
+    assert written == [[0], ["enter a", "enter b", 4]]
 
 
 def test_a_real_time_writer_works_while_the_loop_sleeps():
@@ -90,7 +113,7 @@ class Blocked:
 
 
 class Topics:
-    """Each cycle as one message."""
+    """Each cycle as one message, each event as one."""
 
     def opening(self):
         return []
@@ -99,7 +122,7 @@ class Topics:
         return [("/cycle", record.cycle, b"") for record in records]
 
     def event(self, line):
-        return []
+        return [("/event", json.loads(line)["time"], line)]
 
 
 class Runner:
@@ -139,8 +162,29 @@ def test_a_stream_that_falls_behind_reports_the_cycles_it_dropped():
     [(kind, data)] = runner.reported[:1]
     assert kind == "dropped" and data["writer"] == "test" and data["from"] == 0.015
     assert stream.dropped == sum(d["cycles"] for _, d in runner.reported)
-    written = [time for _, time, _ in sink.messages]
+    written = [time for topic, time, _ in sink.messages if topic == "/cycle"]
     assert written[:3] == [0, 1, 2] and len(written) + stream.dropped == 2003
+
+
+def test_a_stream_that_falls_behind_drops_cycles_but_never_events():
+    sink, runner = Blocked(), Runner()
+    stream = TopicStream(Topics(), sink, "test", 0.01, DROP)
+    sink.release.set()
+    stream.on_start(runner)
+    sink.entered.clear()
+    sink.release.clear()
+    for cycle in range(3):
+        stream.on_cycle(record(cycle))
+    sink.entered.wait()                         # writing 0, 1, 2, blocked
+    for cycle in range(3, 2003):
+        if cycle % 100 == 0:
+            stream.on_event(Event("transition", cycle * 0.005, cycle, {"from": "a", "to": "b"}))
+        stream.on_cycle(record(cycle))
+    sink.release.set()
+    stream.on_stop(None)
+    assert stream.dropped > 1000
+    events = [time for topic, time, _ in sink.messages if topic == "/event"]
+    assert events == [cycle * 0.005 for cycle in range(100, 2003, 100)]
 
 
 class Keep(Observer):

@@ -33,7 +33,7 @@ import traceback
 from pathlib import Path
 
 from ..diagnostics import RobocopError
-from ..runtime.log import report_dropped
+from ..runtime.log import events_of, report_dropped
 from ..runtime.record_batch import pack, unpack
 from ..runtime.records import CycleRecord, Event, Observer
 from ..runtime.run_info import RunInfo
@@ -133,7 +133,8 @@ class LogProcess(Observer):
             self._period = self._next = BACKLOG
         self._sender = WriterThread("run log sender", self._send,
                                     max(1, round(BACKLOG / self._period)),
-                                    WAIT if self._policy == BATCH else self._policy)
+                                    WAIT if self._policy == BATCH else self._policy,
+                                    keep=events_of)
 
     def close(self) -> None:
         """End the process if the run did not (a run that never started)."""

@@ -4,7 +4,7 @@ sink (the ``run.mcap`` file, the Foxglove server)."""
 
 from __future__ import annotations
 
-from ..runtime.log import event_json, report_dropped
+from ..runtime.log import event_json, events_of, report_dropped
 from ..runtime.records import CycleRecord, Observer
 from ..runtime.writer_thread import DROP, WriterThread
 from .topics import RunTopics
@@ -69,7 +69,8 @@ class TopicStream(Observer):
         self.sink.write(self.topics.opening())
         self.sink.checkpoint()
         backlog = max(2, round(BACKLOG / self.period))
-        self._writer = WriterThread(f"{self.name} writer", self._write, backlog, self._policy)
+        self._writer = WriterThread(f"{self.name} writer", self._write, backlog, self._policy,
+                                    keep=events_of)
 
     def on_cycle(self, record: CycleRecord) -> None:
         self._items.append(record)

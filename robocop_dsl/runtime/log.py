@@ -286,6 +286,11 @@ def dropped_event(writer: str, records: list) -> dict:
                        f"({first.time:.3f} s to {last.time:.3f} s)"}
 
 
+def events_of(batch: list) -> list:
+    """What of a batch of cycles and events is never dropped: the events."""
+    return [item for item in batch if not isinstance(item, CycleRecord)]
+
+
 def report_dropped(report, writer: str, dropped) -> int:
     """Tell ``report`` (a run's ``report``, or ``None``) that ``writer`` dropped the
     items ``dropped`` (a batch a writer thread let go, or ``None``); returns how many

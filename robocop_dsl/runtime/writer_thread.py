@@ -7,7 +7,8 @@ writer's policy:
   starts (:meth:`WriterThread.loop_sleeps`; none while the loop is late), and the work
   waits for an open window before each of its steps (:meth:`WriterThread.turn`), so
   that the loop never waits for the interpreter longer than a step. A full backlog
-  drops its oldest batch (the caller reports it).
+  drops its oldest batch (the caller reports it), but for what the writer's ``keep``
+  keeps of it (a run's events), which goes at the head of the next batch.
 - :data:`BATCH` (a headless run): the loop never sleeps, and only one thread runs
   Python at a time, so a writer working beside it would take the interpreter from it
   over and over, each switch costing both. The writer waits until the backlog is full,
@@ -37,14 +38,17 @@ class WriterThread:
         work: Called in the thread with each batch, in order.
         backlog: Batches waiting at most.
         policy: :data:`DROP`, :data:`BATCH` or :data:`WAIT`.
+        keep: For :data:`DROP`, what of a batch (a list) must never be dropped, as a
+            list (empty: none of it); the rest of the batch is dropped.
 
     Attributes:
         failure: The exception ``work`` raised, if any (then the batches after it are
             skipped); :meth:`close` raises it.
     """
 
-    def __init__(self, name: str, work, backlog: int, policy: str):
+    def __init__(self, name: str, work, backlog: int, policy: str, keep=None):
         self._work = work
+        self._keep = keep
         self._backlog = backlog
         self._policy = policy
         self._waiting: deque = deque()
@@ -59,15 +63,19 @@ class WriterThread:
             self._thread.start()
 
     def put(self, batch):
-        """Hand ``batch`` over; returns the batch dropped to make room, or ``None``."""
+        """Hand ``batch`` over; returns the batch dropped to make room (what ``keep``
+        kept of it went on with the next batch), or ``None``."""
         if self._thread is None:
             self._write(batch)
             return None
         dropped = None
         with self._ready:
-            if self._policy == DROP and len(self._waiting) >= self._backlog:
-                dropped = self._waiting.popleft()
             self._waiting.append(batch)
+            if self._policy == DROP and len(self._waiting) > self._backlog:
+                dropped = self._waiting.popleft()
+                kept = self._keep(dropped) if self._keep is not None else []
+                if kept:
+                    self._waiting[0] = kept + self._waiting[0]
             self._ready.notify_all()
             if self._policy == BATCH and len(self._waiting) >= self._backlog:
                 self._ready.wait_for(lambda: not self._waiting and not self._busy)
