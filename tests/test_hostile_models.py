@@ -48,6 +48,37 @@ def test_bad_urdf_numbers_and_types_are_located(tmp_path, joint, message, column
         f"{tmp_path / 'arm.urdf'}:{line}:{column}: error[urdf-error]: {message}")
 
 
+@pytest.mark.parametrize("joint, message, line, column", [
+    ('<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/></joint>',
+     "revolute joint 'j1' has no <limit>", 5, 1),
+    ('<joint name="j1" type="prismatic"><parent link="base"/><child link="l1"/>\n'
+     '<limit lower="0" upper="1" effort="1"/></joint>',
+     "the <limit> of joint 'j1' has no 'velocity'", 6, 1),
+    ('<joint name="j1" type="continuous"><parent link="base"/><child link="l1"/>\n'
+     '<limit velocity="1"/></joint>', "the <limit> of joint 'j1' has no 'effort'", 6, 1),
+    ('<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>\n'
+     '<axis xyz="0 0 0"/><limit lower="0" upper="1" velocity="1" effort="1"/></joint>',
+     "joint 'j1' has a zero axis", 6, 7),
+    ('<joint name="j1" type="fixed"><parent link="base"/><child link="l1"/></joint>\n'
+     '<link name="l1"/>', "two links are named 'l1'", 6, 7),
+])
+def test_urdfs_that_urdf_parsers_refuse_are_refused_first(tmp_path, joint, message, line,
+                                                          column):
+    """What urdfdom (under pinocchio) refuses used to pass ``check`` and end ``run`` and
+    ``world`` in a traceback."""
+    write(tmp_path, "arm.urdf", f'<robot name="arm">\n<link name="base"/>\n'
+                                f'<link name="l1"/>\n\n{joint}\n</robot>\n')
+    world = write(tmp_path, "w.yaml", "models:\n  - path: arm.urdf\n")
+    mission = write(tmp_path, "m.mission", 'mission m\nworld "w.yaml"\nstart s\n'
+                                           "state s {\n    when elapsed > 1 s -> done\n}\n"
+                                           "final done\n")
+    for command in ("world", "check", "run"):
+        done = cli(command, world if command == "world" else mission)
+        assert done.returncode in (1, 2) and "Traceback" not in done.stderr + done.stdout
+        assert (f"{tmp_path / 'arm.urdf'}:{line}:{column}: error[urdf-error]: {message}"
+                in done.stdout + done.stderr)
+
+
 def test_a_chain_of_300_behaviours(tmp_path):
     lines = ['mission chain "Each behaviour runs the next."',
              'world "panda/panda_on_table.yaml"']

@@ -132,6 +132,7 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
                 for link in robot.findall("link")]
     readable += [values.joint(joint, lines.get(("joint", joint.get("name")), 1))
                  for joint in robot.findall("joint")]
+    readable += [values.unique(robot.findall(tag), tag, lines) for tag in ("link", "joint")]
     if not all(readable):
         return None
     model = UrdfModel(path, None)

@@ -1,7 +1,10 @@
 """The numbers and types of a URDF's joints and links, checked before anything reads
-them: a joint type URDF has, limits that are finite numbers in SI (no units, no NaN),
-velocity and effort limits not negative, a lower limit not above the upper one,
-origins, axes and inertias of numbers. Each problem is located at the attribute.
+them: a joint type URDF has, a ``<limit>`` on every revolute and prismatic joint with
+the ``velocity`` and ``effort`` every limit needs, limits that are finite numbers in SI
+(no units, no NaN), velocity and effort limits not negative, a lower limit not above
+the upper one, a moving joint's axis not zero, origins, axes and inertias of numbers,
+and names that are unique. Each problem is located at the attribute: what URDF parsers
+(urdfdom, which pinocchio uses) refuse is found here first.
 """
 
 from __future__ import annotations
@@ -36,7 +39,7 @@ class UrdfValues:
 
     def joint(self, joint: ET.Element, line: int) -> bool:
         """Whether the joint (its element at ``line``) can be read."""
-        before = len(self.diagnostics)
+        before = self._errors()
         kind = joint.get("type", "")
         if kind not in JOINT_TYPES:
             self._error(line, f'type="{kind}"', f"joint '{joint.get('name')}' has no URDF "
@@ -44,14 +47,54 @@ class UrdfValues:
                         or "types: " + ", ".join(JOINT_TYPES))
         self.element(joint, line, f"joint '{joint.get('name')}'")
         limit = joint.find("limit")
+        self._limit(joint, limit, kind, line)
+        axis = joint.find("axis")
+        if axis is not None and kind not in ("fixed", "floating") \
+                and self._errors() == before \
+                and not any(float(v) for v in axis.get("xyz", "1 0 0").split()):
+            self._error(line, 'xyz="', f"joint '{joint.get('name')}' has a zero axis",
+                        "the axis is a direction: for example xyz=\"0 0 1\"")
         if limit is not None and kind in ("revolute", "prismatic") \
-                and len(self.diagnostics) == before:
+                and self._errors() == before:
             lower, upper = float(limit.get("lower", "0")), float(limit.get("upper", "0"))
             if lower > upper:
                 self._error(line, "lower=", f"joint '{joint.get('name')}' has its lower limit "
                             f"{lower:g} above its upper limit {upper:g}",
                             "swap them, or fix the one that is wrong")
-        return len(self.diagnostics) == before
+        return self._errors() == before
+
+    def _errors(self) -> int:
+        return sum(d.is_error for d in self.diagnostics)
+
+    def _limit(self, joint: ET.Element, limit: ET.Element | None, kind: str,
+               line: int) -> None:
+        """A revolute or prismatic joint has a ``<limit>``; every limit has a velocity
+        and an effort (a missing lower or upper limit leaves that side unbounded)."""
+        name = joint.get("name")
+        if limit is None:
+            if kind in ("revolute", "prismatic"):
+                self._error(line, "<joint", f"{kind} joint '{name}' has no <limit>",
+                            "add <limit lower=\"...\" upper=\"...\" velocity=\"...\" "
+                            "effort=\"...\"/> (SI), or make it type=\"continuous\"")
+            return
+        for attribute in ("velocity", "effort"):
+            if attribute not in limit.attrib:
+                self._error(line, "<limit", f"the <limit> of joint '{name}' has no "
+                            f"'{attribute}'", "URDF needs both velocity and effort in a "
+                            "<limit> (rad/s or m/s, N m or N)")
+
+    def unique(self, elements: list, tag: str, lines: dict) -> bool:
+        """Whether no two of ``elements`` (``<link>`` or ``<joint>``) share a name."""
+        seen, unique = set(), True
+        for element in elements:
+            name = element.get("name")
+            if name in seen:
+                self._error(lines.get((tag, name), 1), f'name="{name}"',
+                            f"two {tag}s are named '{name}'",
+                            f"the names of a URDF's {tag}s are unique: rename one", skip=1)
+                unique = False
+            seen.add(name)
+        return unique
 
     def link(self, link: ET.Element, line: int) -> bool:
         """Whether the link's origins and inertial numbers can be read."""
@@ -88,17 +131,21 @@ class UrdfValues:
                         f"must be three finite numbers, not '{text}'",
                         "for example xyz=\"0 0 0.1\" (m) or rpy=\"0 0 1.57\" (rad)")
 
-    def _error(self, line: int, needle: str, message: str, hint: str) -> None:
-        found_line, column = self._locate(line, needle)
+    def _error(self, line: int, needle: str, message: str, hint: str, skip: int = 0) -> None:
+        found_line, column = self._locate(line, needle, skip)
         self.diagnostics.append(self.source.error(
             "urdf-error", message, Span.point(found_line, column, len(needle)), hint))
 
-    def _locate(self, line: int, needle: str) -> tuple[int, int]:
-        """The first place at or after ``line`` where ``needle`` is written."""
+    def _locate(self, line: int, needle: str, skip: int = 0) -> tuple[int, int]:
+        """The first place at or after ``line`` where ``needle`` is written, the first
+        ``skip`` places passed over."""
         for number in range(max(line, 1), len(self.lines) + 1):
             column = self.lines[number - 1].find(needle)
-            if column >= 0:
-                return number, column + 1
+            while column >= 0:
+                if not skip:
+                    return number, column + 1
+                skip -= 1
+                column = self.lines[number - 1].find(needle, column + 1)
         return line, 1
 
 
