@@ -63,3 +63,40 @@ def test_what_is_not_a_log_is_a_clear_error(tmp_path, capsys):
     assert f"{tmp_path}: no events.jsonl here" in capsys.readouterr().err
     assert main(["export", str(tmp_path)]) == 2
     assert "--mcap" in capsys.readouterr().err
+
+
+def test_a_run_s_own_mcap_is_not_written_over_unless_asked(logged, tmp_path, capsys):
+    folder, _, _ = logged
+    before = (folder / "run.mcap").read_bytes()
+    assert main(["export", str(folder), "--mcap"]) == 1
+    err = capsys.readouterr().err
+    assert f"{folder / 'run.mcap'} exists (the run wrote it" in err and "--replace" in err
+    assert (folder / "run.mcap").read_bytes() == before
+    copy = tmp_path / "copy"
+    copy.mkdir()
+    for name in ("events.jsonl", "timeseries.parquet", "run.mcap"):
+        (copy / name).write_bytes((folder / name).read_bytes())
+    assert main(["export", str(copy), "--mcap", "--replace"]) == 0
+    assert read_mcap(copy / "run.mcap")["/joint_states"]
+
+
+@pytest.mark.parametrize("command", ["export", "plot"])
+def test_a_damaged_or_missing_log_is_a_one_line_error(logged, tmp_path, capsys, command):
+    """A time series cut short, a file given for the folder, an output that cannot be
+    written: one line that names the file, exit code 1, no traceback."""
+    folder, _, _ = logged
+    cut = tmp_path / "cut"
+    cut.mkdir()
+    (cut / "events.jsonl").write_bytes((folder / "events.jsonl").read_bytes())
+    (cut / "timeseries.parquet").write_bytes((folder / "timeseries.parquet").read_bytes()[:2000])
+    extra = ["--mcap"] if command == "export" else ["-o", str(tmp_path / "figures")]
+    assert main([command, str(cut), *extra]) == 1
+    err = capsys.readouterr().err
+    assert f"{cut / 'timeseries.parquet'}: not a readable Parquet file" in err
+    assert len(err.strip().splitlines()) == 1
+    if command == "export":
+        assert main(["export", str(folder / "events.jsonl"), "--mcap"]) == 1
+        assert "not a folder" in capsys.readouterr().err
+        assert main(["export", str(folder), "--mcap", "-o",
+                     str(tmp_path / "missing" / "x.mcap")]) == 1
+        assert "cannot write" in capsys.readouterr().err

@@ -2,7 +2,8 @@
 as ``run.mcap``, ROS 2 messages on the topics a run writes, for logs written without it
 or before it existed.
 
-Exit codes: 0 written, 1 no log there, no world, or a world that does not load, 2 usage.
+Exit codes: 0 written, 1 no log there, a damaged one, no world, a world that does not
+load, or an output that exists or cannot be written, 2 usage.
 """
 
 from __future__ import annotations
@@ -23,6 +24,9 @@ def add_parser(subparsers) -> None:
                         help="write an MCAP file (the only format)")
     parser.add_argument("--output", "-o", metavar="FILE",
                         help="where to write it (default: LOG/run.mcap)")
+    parser.add_argument("--replace", action="store_true",
+                        help="write over the output file when it exists (a run's own "
+                             "run.mcap has targets an export cannot rebuild)")
     parser.add_argument("--world", metavar="WORLD.yaml",
                         help="the run's world, for logs that do not name it")
     parser.set_defaults(command=run)
@@ -30,6 +34,7 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     from ..ecosystem import ExportError, export_mcap
+    from ..runtime.log import UnreadableLog
 
     try:
         world = None
@@ -37,11 +42,11 @@ def run(args) -> int:
             from ..world import load_world
 
             world = load_world(args.world)
-        path = export_mcap(args.log, args.output, world)
+        path = export_mcap(args.log, args.output, world, args.replace)
     except DiagnosticError as error:
         print(render_all(error.diagnostics), file=sys.stderr)
         return 1
-    except ExportError as error:
+    except (ExportError, UnreadableLog) as error:
         print(f"robocop-mission export: error: {error}", file=sys.stderr)
         return 1
     print(path)

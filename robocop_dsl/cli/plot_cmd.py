@@ -21,15 +21,19 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..runtime.log import TIMESERIES, timeseries_schema
+    from ..runtime.log import TIMESERIES, UnreadableLog, timeseries_schema
     from ..runtime.plot import plot_run
 
     try:
         timeseries_schema(args.log)
+        paths = plot_run(args.log, args.output, args.format)
     except FileNotFoundError:
         print(f"{args.log}: no {TIMESERIES} here; write one with "
               f"'robocop-mission run MISSION --log {args.log}'", file=sys.stderr)
         return 1
-    for path in plot_run(args.log, args.output, args.format):
+    except UnreadableLog as error:
+        print(f"robocop-mission plot: error: {error}", file=sys.stderr)
+        return 1
+    for path in paths:
         print(path)
     return 0

@@ -18,7 +18,8 @@ import numpy as np
 
 from ..diagnostics import RobocopError
 from ..runtime.log import (EVENTS, PARTS, POSE_COMPONENTS, TASKS_KEY, TIMESERIES,
-                           timeseries_schema, wrench_columns)
+                           read_parquet, timeseries_files, timeseries_schema,
+                           wrench_columns)
 from ..runtime.records import CycleRecord, TaskView
 from .frames import quaternion_matrices
 from .mcap_file import MCAP_FILE, McapFile
@@ -34,7 +35,7 @@ class ExportError(RobocopError):
 
 
 def export_mcap(folder: str | Path, output: str | Path | None = None,
-                world=None) -> Path:
+                world=None, replace: bool = False) -> Path:
     """Write the MCAP of the log in ``folder``; return its path.
 
     Args:
@@ -42,13 +43,26 @@ def export_mcap(folder: str | Path, output: str | Path | None = None,
         output: Where to write it (default ``FOLDER/run.mcap``).
         world: The run's :class:`~robocop_dsl.world.World`, for logs whose ``start``
             event does not name it (default: the one it names).
+        replace: Write over ``output`` when it exists (a run's own ``run.mcap`` has
+            the targets an export cannot rebuild).
 
     Raises:
-        ExportError: no events or time series in ``folder``, no world, or a world
-            without the log's joints.
+        ExportError: no folder, no events or time series in it, no world, a world
+            without the log's joints, ``output`` exists (without ``replace``) or
+            cannot be written.
+        UnreadableLog: a time series file is damaged.
         DiagnosticError: the world named by the log does not load.
     """
     folder = Path(folder)
+    if not folder.is_dir():
+        raise ExportError(f"{folder}: no such folder" if not folder.exists() else
+                          f"{folder}: not a folder; give the folder given to 'run --log'")
+    path = Path(output) if output is not None else folder / MCAP_FILE
+    if path.exists() and not replace:
+        raise ExportError(f"{path} exists" + (" (the run wrote it, with the targets an "
+                                             "export cannot rebuild)" if output is None
+                                             else "") +
+                          ": give another file with --output, or --replace to write over it")
     lines = _event_lines(folder)
     try:
         schema = timeseries_schema(folder)
@@ -65,8 +79,10 @@ def export_mcap(folder: str | Path, output: str | Path | None = None,
     metadata = schema.metadata or {}
     kinds = json.loads(metadata[TASKS_KEY]) if TASKS_KEY in metadata else {}
     topics = RunTopics(world, joints, MCAP_TF_PERIOD)
-    path = Path(output) if output is not None else folder / MCAP_FILE
-    mcap = McapFile(path, topics.topics)
+    try:
+        mcap = McapFile(path, topics.topics)
+    except OSError as error:
+        raise ExportError(f"cannot write {path}: {error.strerror or error}") from None
     mcap.write(topics.opening())
     replay = _Replay(world, joints, kinds, [json.loads(line) for line in lines])
     for columns in _rows(folder):
@@ -110,11 +126,10 @@ def _rows(folder: Path):
     """The time series, :data:`ROWS` rows at a time: column name -> numpy array."""
     import pyarrow.parquet as pq
 
-    joined = folder / TIMESERIES
-    files = [joined] if joined.is_file() else sorted((folder / PARTS).glob("*.parquet"))
-    for file in files:
-        with pq.ParquetFile(file) as parquet:
-            for batch in parquet.iter_batches(batch_size=ROWS):
+    for file in timeseries_files(folder):
+        with read_parquet(pq.ParquetFile, file) as parquet:
+            batches = parquet.iter_batches(batch_size=ROWS)
+            while (batch := read_parquet(lambda _: next(batches, None), file)) is not None:
                 yield {name: column.to_numpy(zero_copy_only=False)
                        for name, column in zip(batch.schema.names, batch.columns)}
 

@@ -41,6 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..diagnostics import RobocopError
 from .records import CycleRecord, Event, Observer
 from .run_info import RunInfo
 from .writer_thread import BATCH, WriterThread
@@ -387,17 +388,42 @@ def error_unit(task) -> str | None:
     return {"body_position": "m", "body_pose": "m+rad"}.get(task.kind, "rad")
 
 
-def timeseries_schema(folder: str | Path):
-    """The pyarrow schema of a logged run's time series (joined or in row groups)."""
-    import pyarrow.parquet as pq
+class UnreadableLog(RobocopError):
+    """A log file that cannot be read: not Parquet, cut short or damaged."""
 
+
+def read_parquet(read, path: Path):
+    """``read(path)`` (a pyarrow reader), its failures as :class:`UnreadableLog`."""
+    import pyarrow as pa
+
+    try:
+        return read(path)
+    except (pa.ArrowException, OSError) as error:
+        raise UnreadableLog(f"{path}: not a readable Parquet file ({error})") from None
+
+
+def timeseries_files(folder: str | Path) -> list[Path]:
+    """The Parquet files of a logged run's time series: the joined file, else the row
+    groups of a killed run. Raises ``FileNotFoundError`` when there are none."""
     folder = Path(folder)
     if (folder / TIMESERIES).is_file():
-        return pq.read_schema(folder / TIMESERIES)
-    parts = sorted((folder / PARTS).glob("*.parquet"))
+        return [folder / TIMESERIES]
+    parts = sorted((folder / PARTS).glob("*.parquet")) if folder.is_dir() else []
     if not parts:
         raise FileNotFoundError(f"{folder} has neither {TIMESERIES} nor {PARTS}/")
-    return pq.read_schema(parts[0])
+    return parts
+
+
+def timeseries_schema(folder: str | Path):
+    """The pyarrow schema of a logged run's time series (joined or in row groups).
+
+    Raises:
+        FileNotFoundError: there is none.
+        UnreadableLog: its file is damaged.
+    """
+    import pyarrow.parquet as pq
+
+    return read_parquet(pq.read_schema, timeseries_files(folder)[0])
 
 
 def reference_width(task) -> int:
@@ -452,13 +478,7 @@ def read_timeseries(folder: str | Path) -> dict:
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    folder = Path(folder)
-    if (folder / TIMESERIES).is_file():
-        table = pq.read_table(folder / TIMESERIES)
-    else:
-        parts = sorted((folder / PARTS).glob("*.parquet"))
-        if not parts:
-            raise FileNotFoundError(f"{folder} has neither {TIMESERIES} nor {PARTS}/")
-        table = pa.concat_tables([pq.read_table(part) for part in parts])
+    table = pa.concat_tables([read_parquet(pq.read_table, file)
+                              for file in timeseries_files(folder)])
     return {name: table.column(name).to_numpy(zero_copy_only=False)
             for name in table.column_names}
