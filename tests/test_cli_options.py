@@ -147,3 +147,15 @@ def test_a_bad_event_is_a_usage_error(tmp_path, option, message):
     assert done.returncode == 2
     assert message in done.stderr
     assert "Traceback" not in done.stderr
+
+
+@pytest.mark.parametrize("duration, message", [
+    ("-1", "-1: a duration is a finite number of seconds above 0"),
+    ("0", "0: a duration is a finite number of seconds above 0"),
+    ("nan", "nan: a duration is a finite number of seconds above 0"),
+    ("soon", "'soon' is not a number of seconds"),
+])
+def test_a_duration_that_is_not_a_time_ahead_is_a_usage_error(duration, message):
+    done = robocop("run", "missions/pickup.mission", f"--duration={duration}")
+    assert done.returncode == 2 and message in done.stderr
+    assert "Traceback" not in done.stderr

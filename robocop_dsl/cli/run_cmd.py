@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import gc
+import math
 import signal
 import sys
 import threading
@@ -26,6 +27,18 @@ DEFAULT_ADDRESS = "127.0.0.1:8765"     # of --foxglove
 
 EXIT_CODES = {"success": 0, "failure": 1, "stopped": 1, "fault": 3, "interrupted": 130}
 VIEWER_SYNC = 5.0   # [s] at most to show the last cycle before waiting or exiting
+
+
+def _duration(text: str) -> float:
+    """A ``--duration``: a finite number of seconds above zero."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number of seconds") from None
+    if not math.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"{text}: a duration is a finite number of "
+                                         "seconds above 0")
+    return value
 
 
 def add_parser(subparsers) -> None:
@@ -48,8 +61,8 @@ def add_parser(subparsers) -> None:
                              "page served until Ctrl-C")
     parser.add_argument("--record", metavar="FILE",
                         help="write a standalone HTML replay of the run to FILE")
-    parser.add_argument("--duration", type=float, metavar="SECONDS",
-                        help="stop after this much mission time")
+    parser.add_argument("--duration", type=_duration, metavar="SECONDS",
+                        help="stop after this much mission time (> 0)")
     parser.add_argument("--solver", help="QP solver (overrides the world's controller)")
     parser.add_argument("--hierarchy", choices=("strict", "weighted"),
                         help="task hierarchy (overrides the world's controller)")
