@@ -69,7 +69,7 @@ def test_an_action_that_raises_is_a_located_fault_exit_3(tmp_path):
     done = robocop("run", path, "--log", tmp_path / "log")
     assert done.returncode == 3, done.stderr
     assert "Traceback" not in done.stderr + done.stdout
-    assert "outcome: fault" in done.stdout
+    assert "outcome: fault  final state: carry" in done.stdout
     assert ("action 1 of 'when elapsed > 20 ms -> loop' in state 'carry': kinematics: "
             "invalid parent 'part_body'") in " ".join(done.stdout.split())
     events = read_events(tmp_path / "log")
@@ -78,6 +78,46 @@ def test_an_action_that_raises_is_a_located_fault_exit_3(tmp_path):
     end = events[-1]
     assert end["outcome"] == "fault" and end["holding"] is True
     assert len(read_timeseries(tmp_path / "log")["time"]) == end["cycle"]
+
+
+SAME_BLOCK = """
+mission same_block
+world "bazar/sophia.yaml"
+
+var z: scalar = 0
+var x: length = 1 m
+
+state carry {
+    when elapsed > 20 ms -> divide {
+        attach part_body to bazar_left_hankamp_tool_object_side
+        attach drop_point to part_body
+        attach bazar_left_hankamp_tool_object_side to drop_point
+    }
+}
+state divide { when elapsed > 20 ms -> done { x = x / z } }
+final done
+"""
+
+
+def test_a_block_s_actions_meet_the_frames_its_earlier_actions_moved(tmp_path):
+    """The second attach of a block sees the first one's frames (it used to fail for
+    want of a state); the third closes a cycle and is a fault naming the body; a
+    division by zero is a fault that says so. Either way the summary names the state
+    the failing clause leaves."""
+    done = robocop("run", write(tmp_path, "same.mission", SAME_BLOCK))
+    text = " ".join(done.stdout.split())
+    assert done.returncode == 3 and "Traceback" not in done.stderr + done.stdout
+    assert ("action 3 of 'when elapsed > 20 ms -> divide' in state 'carry': kinematics: "
+            "invalid parent 'drop_point'") in text
+    assert "final state: carry" in text
+    path = write(tmp_path, "divide.mission", SAME_BLOCK.replace(
+        "        attach bazar_left_hankamp_tool_object_side to drop_point\n", ""))
+    done = robocop("run", path)
+    text = " ".join(done.stdout.split())
+    assert done.returncode == 3 and "Traceback" not in done.stderr + done.stdout
+    assert ("action 1 of 'when elapsed > 20 ms -> done' in state 'divide': division by "
+            "zero: the divisor of a '/' is 0") in text
+    assert "final state: divide" in text
 
 
 def test_debug_prints_the_traceback(tmp_path):

@@ -150,8 +150,9 @@ class Kinematics:
         frames[body_id].parentJoint = parent_frame.parentJoint
         frames[body_id].parentFrame = parent_id
         self.placements += 1
-        self.q = None
-        self._key = b""
+        self.stamp += 1             # same joints, frames moved: poses are computed again
+        self._poses = {}
+        self._jacobians = {}
 
     def _subtree(self, frame_id: int) -> list[int]:
         frames = self.model.frames

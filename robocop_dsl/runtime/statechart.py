@@ -268,8 +268,13 @@ class Statechart:
         exited: list = []
         entered: list = []
         self.exit(machine, context, exited)
-        self._run(clause.actions, owner.path, context,
-                  f"when {clause.text} -> {clause.target}")
+        try:
+            self._run(clause.actions, owner.path, context,
+                      f"when {clause.text} -> {clause.target}")
+        except StepFailed:      # the run ends where the failing action was: in the source
+            self._active[machine.path] = owner
+            self._text = None
+            raise
         self.enter(machine, target, context, entered)
         return MicroStep(owner.path, target.path, clause.text, tuple(exited), tuple(entered))
 

@@ -15,8 +15,17 @@ import numpy as np
 
 from ..compile import spec as s
 from ..compile import variables as v
+from ..diagnostics import RobocopError
 
-_ARITHMETIC = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv}
+
+def _divided(numerator, divisor):
+    """``numerator / divisor``; a zero divisor is a fault that says so."""
+    if np.any(np.asarray(divisor) == 0):
+        raise RobocopError("division by zero: the divisor of a '/' is 0")
+    return numerator / divisor
+
+
+_ARITHMETIC = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": _divided}
 
 
 class Variables:
