@@ -90,6 +90,10 @@ class SourceFile:
         index = bisect.bisect_right(self._starts, offset) - 1
         return index + 1, offset - self._starts[index] + 1
 
+    def offset(self, line: int, column: int) -> int:
+        """The character offset of 1-based ``line`` and ``column`` (see :meth:`position`)."""
+        return self._starts[line - 1] + column - 1
+
     def error(self, code: str, message: str, span: Span | None, hint: str | None = None,
               severity: str = ERROR, notes: tuple[str, ...] = ()) -> "Diagnostic":
         """Build a diagnostic located in this file."""

@@ -110,6 +110,28 @@ async def test_rename_refused_when_the_name_is_taken(client: LanguageClient, whe
 
 
 @pytest.mark.asyncio
+@pytest.mark.parametrize("path, where, after, new_name, reason", [
+    (PICKUP, "reach(goal: target", len("reach("), "left_tool",
+     "would make an error, .*pickup.mission:39:.*unknown task or constraint"),
+    (PICKUP, "let carry_height", len("let "), "pickup_point",
+     "would make an error, .*pickup.mission:.*is not a target"),
+    (MISSIONS / "bazar_common.mission", "constraint right_speed", len("constraint "),
+     "left_hand", "would make an error, .*two_parts.mission:6:.*has the name of a "
+                  "constraint"),
+])
+async def test_rename_refused_when_it_makes_an_error(client: LanguageClient, path, where,
+                                                     after, new_name, reason):
+    """A clash the naming rules do not see: a behaviour's parameter named as a task its
+    body uses, a constant named as a world body the file targets, a library's
+    constraint named as a constant of a mission that imports it."""
+    uri = await opened(client, path)
+    lines = path.read_text().splitlines()
+    with pytest.raises(JsonRpcInvalidParams, match=reason):
+        await client.text_document_rename_async(types.RenameParams(
+            types.TextDocumentIdentifier(uri), at(where, lines=lines, after=after), new_name))
+
+
+@pytest.mark.asyncio
 @pytest.mark.parametrize("line, typed, label, active", [
     ("    interpolator = otg(max_velocity = 1 rad/s, ", "", "otg(", 1),
     ("    interpolator = otg(max_jerk = 1 rad/s^3, max_acc", "", "otg(", 1),

@@ -38,13 +38,15 @@ def unsaved_imports(texts: dict[Path, str]):
             checked_imports.read_source = read_source
 
 
-def check(project: Project, parsed: Parsed, stale: Callable[[], bool] = lambda: False
-          ) -> list[Diagnostic] | None:
+def check(project: Project, parsed: Parsed, stale: Callable[[], bool] = lambda: False,
+          texts: dict[Path, str] | None = None) -> list[Diagnostic] | None:
     """Every diagnostic of the mission ``parsed``, sorted as ``check`` sorts them;
     ``None`` when ``stale()`` says the text changed before the check was over (asked
-    between the checker's passes)."""
+    between the checker's passes). Imported files are read from ``texts`` when there
+    (by default the open documents), else from the disk."""
     source, tree = parsed.result.source, parsed.tree
-    with COLLECTOR.paused(), unsaved_imports(dict(project.open)):
+    texts = dict(project.open) if texts is None else texts
+    with COLLECTOR.paused(), unsaved_imports(texts):
         _, world, loading = _world_of(tree, source, project.worlds)
         if stale():
             return None

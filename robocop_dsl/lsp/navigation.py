@@ -5,7 +5,8 @@ name, is a keyword, or already names something the checker would then confuse it
 where it is seen: another task, constraint, event or constant (a var too) for those;
 another behaviour; another state of the same machine; another region of the same
 state; another parameter of the same behaviour; and for a var, what :func:`_clashes`
-says."""
+says. A rename that passes those rules is then tried on every file that sees the
+declaration (:mod:`.rename_check`): one that makes an error appear is refused too."""
 
 from __future__ import annotations
 
@@ -20,7 +21,7 @@ from ..diagnostics import Span
 from ..lang import ast
 from ..lang.parser import mission_grammar
 from ..lang.syntax_errors import RESERVED
-from . import names
+from . import names, rename_check
 from .positions import location, path_to_uri, to_range
 from .project import Parsed, Project
 from .resolve import LOCAL, WORLD_KINDS, Resolver, Target, top_level
@@ -194,11 +195,23 @@ def rename(project: Project, path: Path, line: int, column: int,
         if taken is not None:
             raise JsonRpcInvalidParams(f"cannot rename '{target.name}' to '{new_name}': "
                                        f"'{new_name}' is already {taken}")
+        made = rename_check.new_error(project, places, _seeing(project, target), new_name)
+        if made is not None:
+            raise JsonRpcInvalidParams(f"cannot rename '{target.name}' to '{new_name}': "
+                                       f"it would make an error, {made.location()}: "
+                                       f"{made.message}")
     changes: dict[str, list[types.TextEdit]] = {}
     for place, occurrence in places:
         changes.setdefault(path_to_uri(place), []).append(
             types.TextEdit(to_range(occurrence.name.span), new_name))
     return types.WorkspaceEdit(changes=changes)
+
+
+def _seeing(project: Project, target: Target) -> list[Path]:
+    """The mission files that see the declaration of ``target``: its own and those
+    whose imports reach it."""
+    return [target.path, *project.importers(target.path)] if target.path.suffix == ".mission" \
+        else []
 
 
 def prepare_rename(project: Project, path: Path, line: int, column: int):
