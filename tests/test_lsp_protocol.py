@@ -224,3 +224,21 @@ async def test_exit_ends_the_process_at_once(tmp_path):
     await asyncio.wait_for(client._server.wait(), timeout=30)
     assert client._server.returncode == 0
     await client.stop()
+
+
+@pytest.mark.asyncio
+async def test_a_misspelt_behaviour_argument_is_fixed_where_it_is_written(
+        client: LanguageClient, tmp_path):
+    """The error is reported inside the behaviour, where the argument is used; its
+    quick fix edits the argument of the instance (named by the diagnostic's note)."""
+    clean = (MISSIONS / "pickup.mission").read_text().replace(
+        '"bazar/sophia.yaml"', f'"{REPO / "robots/bazar/sophia.yaml"}"')
+    broken = clean.replace("state grasp: reach(pickup_point,", "state grasp: reach(pickup_pont,")
+    path = tmp_path / "typo.mission"
+    path.write_text(broken)
+    uri = await opened(client, path)
+    [diagnostic] = client.diagnostics[uri]
+    assert diagnostic.code == "unknown-body"
+    fixed = await fix_all(client, uri, broken)
+    assert fixed == clean
+    assert not await changed(client, uri, 2, fixed)

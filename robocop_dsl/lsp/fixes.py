@@ -1,7 +1,9 @@
 """Quick fixes: the edits a diagnostic's own words call for.
 
 A "did you mean 'X'?" hint replaces the name its message quotes, inside the
-diagnostic's span, with X (one fix per name offered: ``'a', 'b' or 'c'``); a missing
+diagnostic's span, with X (one fix per name offered: ``'a', 'b' or 'c'``), or, when
+the name came from a behaviour's argument (a note "in CALL at FILE:LINE:COL"), in that
+argument of the instance; a missing
 ``->``, ``=``, ``:``, ``)`` or ``]`` is inserted where it was expected, a ``:`` written
 for ``=`` (or the reverse) is replaced, two statements on one line are split, and a
 block left open is closed where its indentation shows it ends (a ``}`` on a line of
@@ -14,7 +16,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..diagnostics import Diagnostic, SourceFile, Span
+from ..diagnostics import Diagnostic, RobocopError, SourceFile, Span
 from ..lang.syntax_errors import UNCLOSED, code_of, layout_closings
 
 _SUGGESTION = re.compile(r"did you mean ((?:'[^']*'(?:, | or )?)+)\?")
@@ -22,6 +24,7 @@ _QUOTED = re.compile(r"'([^']*)'")
 _MISSING = re.compile(r"missing '([^']+)' before (.+)")
 _WRONG = re.compile(r"expected '([^']+)' here, not '([^']+)'")
 _NEW_LINE = "expected a new line before"
+_INSTANCE = re.compile(r"^in .* at (.+):(\d+):(\d+)$")
 
 
 @dataclass(frozen=True)
@@ -64,16 +67,48 @@ def _replaced(token: str, path: Path, source: SourceFile, span: Span) -> Fix:
 
 def _suggested(diagnostic: Diagnostic, path: Path, source: SourceFile) -> list[Fix]:
     """One fix per name a "did you mean" hint offers, replacing the name the message
-    quotes first (found in the span's text)."""
-    span = diagnostic.span
-    written = source.line(span.line)[span.column - 1:span.end_column - 1]
+    quotes first (found in the span's text, else in the behaviour instance a note
+    names)."""
     quoted = _QUOTED.search(diagnostic.message)
-    if quoted is None or not quoted.group(1) or quoted.group(1) not in written:
+    if quoted is None or not quoted.group(1):
         return []
+    wrong = quoted.group(1)
+    place = _written(wrong, path, source, diagnostic.span) or _in_instance(wrong, diagnostic,
+                                                                          path, source)
+    if place is None:
+        return []
+    at, span, written = place
     names = _QUOTED.findall(_SUGGESTION.search(diagnostic.hint).group(1))
-    return [Fix(f"change '{quoted.group(1)}' to '{name}'", path, span,
-                written.replace(quoted.group(1), name, 1), len(names) == 1)
+    return [Fix(f"change '{wrong}' to '{name}'", at, span, written.replace(wrong, name, 1),
+                len(names) == 1)
             for name in names]
+
+
+def _written(name: str, path: Path, source: SourceFile, span: Span):
+    """``(path, span, text)`` of ``span`` when its text holds ``name``."""
+    written = source.line(span.line)[span.column - 1:span.end_column - 1]
+    return (path, span, written) if name in written else None
+
+
+def _in_instance(name: str, diagnostic: Diagnostic, path: Path, source: SourceFile):
+    """``(path, span, name)`` of ``name`` as an argument of the behaviour instance a
+    note of ``diagnostic`` names, or ``None``."""
+    for note in diagnostic.notes:
+        found = _INSTANCE.match(note)
+        if found is None:
+            continue
+        at, line, column = Path(found.group(1)).resolve(), int(found.group(2)), \
+            int(found.group(3))
+        if at != path:
+            try:
+                source = SourceFile.read(at)
+            except RobocopError:
+                continue
+        text = source.line(line)
+        argument = re.compile(rf"\b{re.escape(name)}\b").search(text, column - 1)
+        if argument is not None:
+            return at, Span(line, argument.start() + 1, line, argument.end() + 1), name
+    return None
 
 
 def _inserted(diagnostic: Diagnostic, path: Path, source: SourceFile) -> list[Fix]:
