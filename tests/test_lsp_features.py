@@ -139,6 +139,8 @@ async def test_rename_refused_when_it_makes_an_error(client: LanguageClient, pat
     ("task t: body_pose(", "", "body_pose(body)", 0),
     ("    tolerance = pose(position = 1 mm, ", "", "pose(position, orientation)", 1),
     ("    when distance(a, ", "", "distance(body, body)", 1),
+    ("    interpolator = otg(max_velocity = [1, ", "", "otg(", 0),
+    ("state x: reach(pickup_point offset [0, 0, ", "", "reach(goal: target", 0),
 ])
 async def test_signature_help(client: LanguageClient, tmp_path, line, typed, label, active):
     """Inside a call: its parameters, the one the cursor is on active (by name when

@@ -44,8 +44,9 @@ def _statement(lines: list[str], line: int, character: int) -> str:
 
 
 def _open_call(code: str) -> tuple[str, str, str] | None:
-    """The innermost call still open at the end of ``code``: the code before its name,
-    its name and what is written inside it so far."""
+    """The innermost call still open at the end of ``code`` (a vector still open inside
+    it is part of its argument): the code before its name, its name and what is written
+    inside it so far."""
     depth = 0
     for index in range(len(code) - 1, -1, -1):
         char = code[index]
@@ -59,8 +60,6 @@ def _open_call(code: str) -> tuple[str, str, str] | None:
                 if name is None:
                     return None
                 return code[:name.start()], name.group(1), code[index + 1:]
-            else:
-                return None
     return None
 
 
