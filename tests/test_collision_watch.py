@@ -149,3 +149,26 @@ def test_rows_follow_the_robot_while_the_same_pairs_stay_near(bazar):
             first = constraint._span[0]
             np.testing.assert_allclose(jacobian, fresh[first:first + len(jacobian)], atol=1e-12)
     assert kept >= 15, "the same pairs were not followed from state to state"
+
+
+def test_runs_one_after_the_other_leave_nothing_behind():
+    """A finished run's controller, its collision watch and scene and its copy of the
+    world are freed: a campaign running jobs in one process does not grow (a table of
+    watches keyed weakly by a state its values referred to used to keep every run)."""
+    import gc
+    import weakref
+
+    from robocop_dsl.runtime import load_mission
+
+    mission = load_mission("missions/pickup.mission")
+    kept = []
+    for _ in range(3):
+        runner = mission.runner()
+        runner.run(duration=0.02)
+        state = runner.controller.state
+        assert state.collision_watch is not None
+        kept += [weakref.ref(state), weakref.ref(state.collision_watch.scene),
+                 weakref.ref(state.world)]
+        del runner, state
+    gc.collect()
+    assert [ref() for ref in kept] == [None] * len(kept)

@@ -54,6 +54,9 @@ class ControlState:
         """Where force tasks read the wrench a body exerts on the environment: an
         object with ``wrench(body) -> [fx, fy, fz, tx, ty, tz]`` [N, N m] (world frame),
         updated before each cycle; ``None`` when nothing measures forces."""
+        self.collision_watch = None
+        """The pairs of the controller's ``collision_avoidance`` constraints
+        (:mod:`~robocop_dsl.control.constraints.collision_watch`), made by the first."""
         self._jacobians: dict[tuple[int, int], np.ndarray] = {}
         self._stamp = -1
         self._positions = np.zeros(self.dofs)

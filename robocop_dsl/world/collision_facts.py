@@ -19,6 +19,7 @@ import json
 import os
 import re
 import tempfile
+import weakref
 from weakref import WeakKeyDictionary
 
 from .. import __version__
@@ -41,15 +42,21 @@ def collision_facts(world: World) -> "CollisionFacts":
 
 class CollisionFacts:
     """Answers about a world's collision geometry, from the cache file when it has them.
+    It refers to its world weakly: kept in a table keyed weakly by the world, it must
+    not keep that world alive.
 
     Args:
         world: The loaded world.
     """
 
     def __init__(self, world: World):
-        self.world = world
+        self._world = weakref.ref(world)
         self._path = private_cache_file(f"world-collisions-{fingerprint(world)[:32]}.json")
         self._stored = self._read()
+
+    @property
+    def world(self) -> World:
+        return self._world()
 
     def set_bodies(self, name: str) -> tuple[str, ...]:
         """The bodies with collision geometry that set ``name`` stands for (see

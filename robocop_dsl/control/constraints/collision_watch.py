@@ -18,7 +18,6 @@ from __future__ import annotations
 import itertools
 from bisect import bisect_left
 from typing import NamedTuple
-from weakref import WeakKeyDictionary
 
 import numpy as np
 
@@ -28,16 +27,15 @@ from ...safety.viable import distance_rate_bounds
 from ..state import ControlState
 from .velocity_damper import damper_bounds
 
-_WATCHES: WeakKeyDictionary = WeakKeyDictionary()
 _NO_SPAN = (0, 0)
 
 
 def collision_watch(state: ControlState) -> CollisionWatch:
-    """The watch of the controller whose state is ``state`` (made on first use)."""
-    watch = _WATCHES.get(state)
-    if watch is None:
-        watch = _WATCHES[state] = CollisionWatch(state)
-    return watch
+    """The watch of the controller whose state is ``state`` (made on first use, kept
+    by the state: it lives as long as the controller)."""
+    if state.collision_watch is None:
+        state.collision_watch = CollisionWatch(state)
+    return state.collision_watch
 
 
 class Seen(NamedTuple):
