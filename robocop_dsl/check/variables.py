@@ -332,7 +332,7 @@ def _flow(ctx: CheckContext, machine: ast.Machine, entry: frozenset, late: set) 
         changed = False
         incoming: dict[str, list] = {name: [] for name in states}
         for name, state in states.items():
-            out = entries[name] | _assigned_in(state)
+            out = entries[name] | _assigned_in(state, clauses=False)
             for transition in (*state.transitions, *machine.guards):
                 if transition.target.text in incoming:
                     incoming[transition.target.text].append(
@@ -385,11 +385,13 @@ def _assigned(actions) -> frozenset:
     return frozenset(a.name.text for a in actions if isinstance(a, ast.SetVar))
 
 
-def _assigned_in(state: ast.StateDecl) -> frozenset:
-    """What a state assigns in its blocks, its clauses' actions and its machines."""
+def _assigned_in(state: ast.StateDecl, clauses: bool = True) -> frozenset:
+    """What a state assigns in its blocks, its clauses' actions (unless ``clauses`` is
+    false: leaving by one clause, the others' actions have not run) and its machines."""
     found = set()
     for part in state.parts:
-        found |= _assigned(part.actions)
+        if clauses or not isinstance(part, ast.Transition):
+            found |= _assigned(part.actions)
     for region in state.regions:
         for machine in (() if region.machine is None else _machines(region.machine)):
             for item in machine.items:
