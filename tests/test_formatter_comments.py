@@ -38,15 +38,16 @@ def test_missions_have_comments_to_keep():
 def test_placement():
     """Own-line comments precede the statement after them (indented like it, or one
     level deeper before a closing brace); comments after code end that statement's
-    line; a comment at the end of the file stays last."""
+    line; a comment at the end of the file stays last; the blank lines are the
+    author's."""
     text = ('# the header\nmission m "d"   # named m\nworld "w.yaml"\n\n'
             "task t : body_pose( b ) {   # the tool\n# its gain\ngain=2.50\n"
             "  # nothing after\n}\n"
             "state s {when t.reached->s}  # loops\n# the end\n")
     assert formatted(text) == (
-        '# the header\nmission m "d"  # named m\n\nworld "w.yaml"\n\n'
+        '# the header\nmission m "d"  # named m\nworld "w.yaml"\n\n'
         "task t: body_pose(b) {  # the tool\n    # its gain\n    gain = 2.5\n"
-        "    # nothing after\n}\n\n"
+        "    # nothing after\n}\n"
         "state s {  # loops\n    when t.reached -> s\n}\n# the end\n")
 
 
@@ -54,7 +55,7 @@ def test_hash_in_string_is_no_comment():
     """A ``#`` inside a string is text, not a comment."""
     text = 'mission m "pick #3"  # third\nworld "w.yaml"\nstate s {\n  enter { log "#1" }\n}\n'
     assert [c.text for c in comments(text)] == ["# third"]
-    assert formatted(text) == ('mission m "pick #3"  # third\n\nworld "w.yaml"\n\n'
+    assert formatted(text) == ('mission m "pick #3"  # third\nworld "w.yaml"\n'
                                'state s {\n    enter { log "#1" }\n}\n')
 
 
@@ -62,6 +63,6 @@ def test_blank_lines_around_comment_groups_kept():
     """A comment set apart by blank lines in a block stays set apart."""
     text = ("mission m\nworld \"w.yaml\"\nstate s {\n    enter { enable t }\n\n"
             "    # leave\n    when t.reached -> s\n}\n")
-    assert formatted(text) == ("mission m\n\nworld \"w.yaml\"\n\nstate s {\n"
+    assert formatted(text) == ("mission m\nworld \"w.yaml\"\nstate s {\n"
                                "    enter { enable t }\n\n    # leave\n"
                                "    when t.reached -> s\n}\n")

@@ -68,7 +68,7 @@ def test_rows_of_calls_and_conditions():
             "state s {\n    when t.reached and\n   t.error < 1 mm -> s\n}\n")
     assert formatted(text) == (
         "task t: body_pose(b) {\n    interpolator = otg(max_velocity = 1 m/s,\n"
-        "                       max_acceleration = 2 m/s^2)\n}\n\n"
+        "                       max_acceleration = 2 m/s^2)\n}\n"
         "state s {\n    when t.reached and\n         t.error < 1 mm -> s\n}\n")
 
 
@@ -80,6 +80,15 @@ def test_alignment_is_kept_not_made():
     assert formatted(text) == ("state s {\n    when a.reached      -> s  # first\n"
                                "    when b.error < 1 mm -> s  # second\n"
                                "    when c.reached -> s  # alone\n}\n")
+
+
+def test_a_comment_set_apart_keeps_its_column_and_no_blank_line_is_added():
+    """A trailing comment the author set well apart from its code keeps its column
+    (comments far apart often share one), further out only when the code needs it; the
+    statements keep the blank lines the author wrote, and get none more."""
+    text = ('mission m\nworld "w.yaml"                 # the world\nstart s\n'
+            "state s {\n    when elapsed > 1 s -> done    # soon\n}\nfinal done\n")
+    assert formatted(text) == text
 
 
 def test_one_line_block_only_when_it_fits():

@@ -380,11 +380,12 @@ def format_mission(mission: ast.Mission) -> str:
 
 def format_source(mission: ast.Mission, text: str) -> str:
     """``mission`` printed with the comments and the author's layout of ``text``, the
-    source it was parsed from; ending with a newline."""
+    source it was parsed from; ending with a newline. The blank lines are the author's
+    (the canonical ones between unrelated statements are not added)."""
     source = text.split("\n")
     written = _SOURCE.set(source)
     try:
-        lines = _items_lines(mission.items)
+        lines = [line for line in _items_lines(mission.items) if line is not BLANK]
     finally:
         _SOURCE.reset(written)
     lines = rows_split(aligned(joined(with_author_blanks(lines, source)), source), INDENT)

@@ -6,7 +6,8 @@ the source, the passes here keep: the blank lines the author put between stateme
 when it fits in :data:`WIDTH` columns; the rows of a vector written over several lines,
 each row after the first under the first element; the column of ``=``, ``->`` or a
 one-line block's ``{`` that adjacent statements share, and that of trailing comments
-on adjacent lines; and every comment, where its reader expects it.
+(each at its own column, adjacent ones aligned); and every comment, where its reader
+expects it.
 """
 
 from __future__ import annotations
@@ -18,6 +19,9 @@ from .syntax_errors import code_of, comment_start
 
 WIDTH = 100
 """The widest a block of one action may be kept on one line [columns]."""
+SET_APART = 4
+"""Spaces between code and a trailing comment from which the comment's column is the
+author's choice, kept."""
 ROW_BREAK = "\n"
 """Between the rows of a vector in a printed line, until they are made lines."""
 _ANCHORS = {"=": " = ", "->": " -> ", "{": " {"}
@@ -201,7 +205,9 @@ def with_comments(lines: list[Line], source: list[str], found: list[Comment],
     """The text lines: ``lines`` with the comments ``found`` in the source. A comment on
     its own line goes before the statement that followed it (indented like it, one
     level deeper before a closing brace); one after code ends the line printed from
-    that code, aligned with those of adjacent lines that the author aligned."""
+    that code, two spaces after it or at the author's column when the author set it
+    further out (:func:`_own_column`), aligned with those of adjacent lines that the
+    author aligned."""
     trailing: dict[int, list[Comment]] = {}
     leading: dict[int, list[Comment]] = {}
     for comment in found:
@@ -222,9 +228,20 @@ def with_comments(lines: list[Line], source: list[str], found: list[Comment],
         if index < len(lines):
             text = lines[index].text
             for comment in trailing.get(index, []):
-                text = text.ljust(columns.get(comment.line, len(text) + 2)) + comment.text
+                column = columns.get(comment.line, _own_column(comment, source, len(text)))
+                text = text.ljust(column) + comment.text
             out.append(text)
     return _tidy(out)
+
+
+def _own_column(comment: Comment, source: list[str], code: int) -> int:
+    """Where a trailing comment goes after ``code`` printed columns: two spaces after
+    it, or the author's column when the author set the comment :data:`SET_APART` or
+    more spaces after the code (a column chosen, often shared by comments far apart)
+    and the code leaves room."""
+    line = source[comment.line - 1]
+    spaced = comment.column - len(line[:comment.column].rstrip()) >= SET_APART
+    return max(code + 2, comment.column) if spaced else code + 2
 
 
 def _owner(lines: list[Line], number: int) -> int | None:
