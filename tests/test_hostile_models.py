@@ -108,3 +108,14 @@ def test_a_campaign_too_large_or_too_long(tmp_path):
         f"{campaign}:2:10: error[wrong-value]: 'samples' is 1,000,000: at most 100,000",
         f"{campaign}:3:11: error[wrong-value]: 'duration' must be at most a day (86400 s), "
         "not inf s"]
+
+
+def test_a_time_step_too_short_to_be_meant_is_refused(tmp_path):
+    """A controller period of 1e-12 s passed ``check`` and made ``run`` crawl forever."""
+    world = write(tmp_path, "w.yaml", "models:\n  - include: panda/panda_on_table.yaml\n"
+                                      "processors:\n  ctl:\n    type: qp_controller\n"
+                                      "    options: {joint_group: panda_arm, "
+                                      "time_step: 1e-12s}\n")
+    done = cli("world", world)
+    assert done.returncode == 1 and "Traceback" not in done.stderr
+    assert "'time_step' must be at least 10us, not 1e-12s" in done.stderr

@@ -352,11 +352,18 @@ def _number(value) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+SHORTEST = 1e-5
+"""The shortest duration an option takes [s]: no processor runs faster than 100 kHz."""
+
+
 def _duration(value, option, names) -> float:
     seconds = to_seconds(value)
     if not _number(seconds) or not math.isfinite(seconds) or seconds <= 0:
         raise _Refused(f"must be a duration > 0, not {_yaml(value)}",
                        "write it with a unit: 5ms, 250us or 0.5s (a bare number is seconds)")
+    if seconds < SHORTEST:
+        raise _Refused(f"must be at least {SHORTEST * 1e6:g}us, not {_yaml(value)}",
+                       "a period or time step that short is a typo (5ms, 250us)")
     return float(seconds)
 
 
