@@ -71,7 +71,8 @@ def controller_of(names: WorldNames, controllers: list[str], decl) -> str:
 
 
 def check_assignment(ctx: CheckContext, mission: ast.Mission) -> None:
-    """In a cascade, every task and constraint is moved by exactly one controller."""
+    """In a cascade, every task and constraint is moved by exactly one controller (and
+    a ``body_pose`` task's body by six of its dofs, a warning)."""
     if not ctx.world.known or mission.first(ast.ControllerDecl) is not None:
         return
     controllers = cascade_controllers(ctx.world)
@@ -85,6 +86,9 @@ def check_assignment(ctx: CheckContext, mission: ast.Mission) -> None:
         found = owners(ctx.world, controllers, decl)
         if not found:
             _report_none(ctx, decl, controllers)
+        elif len(found) == 1 and isinstance(decl, ast.TaskDecl):
+            _few_dofs(ctx, decl, subject_joints(ctx.world, decl)
+                      & ctx.world.controller_joints(found[0]))
         elif len(found) > 1:
             groups = ", ".join(f"{c} ({ctx.world.controller_group(c)})" for c in found)
             ctx.error("several-controllers", f"'{decl.arguments[0].text}' is moved by the "
@@ -154,10 +158,18 @@ def check_driven(ctx: CheckContext, mission: ast.Mission) -> None:
                           f"moves '{subject.text}'", subject.span,
                           f"'{controller}' drives the joint group '{group}': the task "
                           "could never move this body")
-            elif kind.name == "body_pose":
-                dofs = sum(ctx.world.world.joint(j).dofs for j in moving)
-                if dofs < 6:
-                    ctx.warning("few-dofs", f"only {dofs} driven dofs move "
-                                f"'{subject.text}': a body_pose task asks for 6 directions",
-                                decl.kind.span, "it cannot reach every pose: use "
-                                "body_position or body_orientation, or drive more joints")
+            else:
+                _few_dofs(ctx, decl, moving)
+
+
+def _few_dofs(ctx: CheckContext, decl, moving: set) -> None:
+    """Warn at a ``body_pose`` task whose body fewer than six driven dofs (of the joints
+    ``moving``) move."""
+    if decl.kind.text != "body_pose":
+        return
+    dofs = sum(ctx.world.world.joint(j).dofs for j in moving)
+    if dofs < 6:
+        ctx.warning("few-dofs", f"only {dofs} driven dofs move '{decl.arguments[0].text}': "
+                    "a body_pose task asks for 6 directions", decl.kind.span,
+                    "it cannot reach every pose: use body_position or body_orientation, or "
+                    "drive more joints")
