@@ -196,12 +196,25 @@ def test_deep_missions_are_located_errors_and_a_multi_file_check_goes_on(tmp_pat
         (str(files[0]), 4), (str(files[1]), 4), (str(files[2]), 3 + MAX_NESTING // 2 - 1)]
 
 
-@pytest.mark.parametrize("text", [mission(condition="not " * 56 + "elapsed > 1 s"),
-                                  mission(condition=_ands(56)), _nested_states(28)])
+@pytest.mark.parametrize("text", [mission(condition="not " * 190 + "elapsed > 1 s"),
+                                  mission(condition=_ands(190)), _nested_states(64),
+                                  mission(condition="elapsed > " + " + ".join(["1 ms"] * 190))])
 def test_missions_just_within_the_nesting_bound_check_and_compile(text):
     result = check_source(text, "deep.mission", cache=CACHE)
     assert not any("nested" in d.message for d in result.diagnostics)
     assert result.world is not None
+
+
+def test_a_statement_nested_too_deep_leaves_the_rest_of_the_file_checked():
+    """The statement too deep is refused; the others are read and checked (the whole
+    file used to be dropped, with errors about a missing header, world and states)."""
+    text = mission(condition="elapsed > 1 s and nowhere.reached") + \
+        f"let deep = {'-' * 300}1 m\n"
+    result = check_source(text, "deep.mission", cache=CACHE)
+    found = [(d.code, d.span.line) for d in result.diagnostics]
+    assert ("syntax-error", 7) in found
+    assert any(code.startswith("unknown") and line == 4 for code, line in found)
+    assert not any(d.code == "missing-declaration" for d in result.diagnostics)
 
 
 def test_a_256_character_world_name_is_a_located_error(tmp_path):
@@ -261,16 +274,18 @@ def test_a_mission_not_in_utf8_is_located_at_the_byte(tmp_path):
 
 # ---- lines counted as the parsers count them ----------------------------------------
 
-@pytest.mark.parametrize("odd", ["\f", "\v", "\u2028", "\r", "\x85", "\x1c"])
-def test_quoted_mission_lines_follow_the_lexer(odd):
+@pytest.mark.parametrize("odd, line", [("\f", 5), ("\v", 5), ("\u2028", 5), ("\r", 6),
+                                       ("\x85", 5), ("\x1c", 5)])
+def test_quoted_mission_lines_follow_the_lexer(odd, line):
+    """Only a line feed or a carriage return (alone, as editors count it) ends a line."""
     text = (f'mission m "x"\n# a comment{odd}with an odd break\nworld "{PANDA}"\n'
             "state a {\n    when elapsed > 1 s -> nowhere\n}\nfinal done\n")
     result = check_source(text, "odd.mission", cache=CACHE)
     [diagnostic] = [d for d in result.diagnostics if d.code == "unknown-state"]
-    assert diagnostic.span.line == 5
+    assert diagnostic.span.line == line
     assert diagnostic.source_line == "    when elapsed > 1 s -> nowhere"
     quoted = diagnostic.render().splitlines()
-    assert quoted[1] == " 5 |     when elapsed > 1 s -> nowhere"
+    assert quoted[1] == f" {line} |     when elapsed > 1 s -> nowhere"
     assert quoted[2].index("^") == quoted[1].index("nowhere")
 
 

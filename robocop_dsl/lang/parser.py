@@ -28,9 +28,10 @@ from .syntax_errors import (RESERVED, UNCLOSED, Recovery, closed_by_layout, code
                             layout_closings)
 from .transformer import MissionBuilder
 
-# Syntax-tree depth beyond which a mission is refused: the checker and the compiler
-# walk the tree recursively; real missions nest about 12 deep.
-MAX_NESTING = 64
+# Syntax-tree depth beyond which a statement is refused (the rest of the file is read):
+# the checker and the compiler walk the tree recursively; real missions nest about 12
+# deep, a sum of 190 terms about 200.
+MAX_NESTING = 200
 _BREAKABLE_AFTER = ("COMMA", "LPAR", "LSQB")
 _OPERATORS = ("AND", "OR", "NOT")
 _PLACE = threading.local()
@@ -147,14 +148,18 @@ def _parse(text: str, source: SourceFile) -> tuple[ast.Mission, list[Diagnostic]
     mission = ast.Mission(span=Span.point(1))
     try:
         tree = mission_grammar().parse(text, on_error=recovery)
-        too_deep = _too_deep(tree)
-        if too_deep is None:
-            mission = MissionBuilder(text).transform(tree)
-        else:
+        kept = []
+        for item in tree.children:
+            too_deep = _too_deep(item, 2) if isinstance(item, Tree) else None
+            if too_deep is None:
+                kept.append(item)
+                continue
             recovery.diagnostics.append(source.error(
                 "syntax-error", f"nested more than {MAX_NESTING} levels deep", too_deep,
                 "give parts of the condition or of the state machine names of their own "
                 "(a 'let', a behaviour, a state)"))
+        tree.children = kept
+        mission = MissionBuilder(text).transform(tree)
     except (LarkError, VisitError) as error:
         recovery.give_up(error)
     return mission, recovery.diagnostics, len(recovery.unclosed)
@@ -192,9 +197,10 @@ def parse_file(path: str | Path) -> ParseResult:
     return parse_mission(read_source(path, MISSION).text, path)
 
 
-def _too_deep(tree: Tree) -> Span | None:
-    """Where ``tree`` first nests deeper than :data:`MAX_NESTING`, or ``None``."""
-    stack = [(tree, 1)]
+def _too_deep(tree: Tree, depth: int = 1) -> Span | None:
+    """Where ``tree`` (at ``depth``) first nests deeper than :data:`MAX_NESTING`, or
+    ``None``."""
+    stack = [(tree, depth)]
     while stack:
         node, depth = stack.pop()
         if depth > MAX_NESTING:
