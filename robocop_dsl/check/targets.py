@@ -11,6 +11,7 @@ target is set.
 
 from __future__ import annotations
 
+from ..diagnostics import did_you_mean
 from ..lang import ast
 from ..lang.catalogue import (FORCE_SPACE, GAZE_SPACE, JOINT_SPACE, JOINT_VELOCITY_SPACE,
                               ORIENTATION_SPACE, POSE_SPACE, POSITION, POSITION_SPACE,
@@ -92,6 +93,12 @@ def _wrong(ctx: CheckContext, value: ast.Value, kind: Kind, joints: Joints | Non
         ctx.error("wrong-length", f"a {kind.name} target needs {joints.dofs} values, "
                   "not one number", value.span, f"write {_FORMS[kind.space]}")
         return
+    if isinstance(value, ast.Reference) and not ctx.world.has_body(value.name.text):
+        near = did_you_mean(value.name.text, [*ctx.constants, *ctx.variables])
+        if near:
+            ctx.error("unknown-name", f"unknown constant or var '{value.name.text}'",
+                      value.span, near)
+            return
     ctx.error("wrong-target", f"{shown} is not a target for a {kind.name} task",
               value.span, f"a {kind.name} target is {_FORMS[kind.space]}")
 
