@@ -158,6 +158,7 @@ def test_runs_one_after_the_other_leave_nothing_behind():
     import gc
     import weakref
 
+    from robocop_dsl.control.constraints.collision_watch import collision_watch
     from robocop_dsl.runtime import load_mission
 
     mission = load_mission("missions/pickup.mission")
@@ -166,8 +167,7 @@ def test_runs_one_after_the_other_leave_nothing_behind():
         runner = mission.runner()
         runner.run(duration=0.02)
         state = runner.controller.state
-        assert state.collision_watch is not None
-        kept += [weakref.ref(state), weakref.ref(state.collision_watch.scene),
+        kept += [weakref.ref(state), weakref.ref(collision_watch(state).scene),
                  weakref.ref(state.world)]
         del runner, state
     gc.collect()

@@ -108,16 +108,18 @@ def test_the_command_line_refuses_a_remote_address_without_consent(capsys):
     assert "robocop-mission run: error: --foxglove '0.0.0.0:8765': 0.0.0.0 is not the" in err
 
 
-def test_a_taken_port_is_a_clear_error(capsys):
+def test_a_taken_port_is_a_clear_error(capsys, tmp_path):
+    """The run does not start, and leaves no log folder that would look like a run's."""
     with socket.socket() as taken:
         taken.bind(("127.0.0.1", 0))
         taken.listen()
         port = taken.getsockname()[1]
         code = main(["run", str(MISSIONS / "pickup.mission"), "--foxglove",
-                     f"127.0.0.1:{port}", "--duration", "0.1"])
+                     f"127.0.0.1:{port}", "--duration", "0.1", "--log", str(tmp_path / "log")])
     err = capsys.readouterr().err
     assert code == 3 and "Traceback" not in err
     assert f"cannot serve Foxglove on 127.0.0.1:{port}: Failed to bind port" in err
+    assert not (tmp_path / "log").exists()
 
 
 def test_the_layout_shows_the_run_s_topics():

@@ -148,15 +148,6 @@ def _run(args, signals, log) -> int:
     watch = SummaryWatch(mission.spec)
     runner.add_observer(watch)
     realtime = bool(args.realtime or runner.driver.realtime)
-    if log is not None:
-        from ..ecosystem.log_process import LogProcessError
-        from ..runtime.writer_thread import BATCH, DROP
-
-        try:
-            log.prepare(runner, DROP if realtime else BATCH)
-        except LogProcessError as error:
-            print(f"robocop-mission run: error: {error}", file=sys.stderr)
-            return 3
     viewer = recorder = None
     if watched or args.record:
         from ..viewer import ViewerConnectionError, ViewerError
@@ -180,6 +171,18 @@ def _run(args, signals, log) -> int:
             return 3
         print(f"foxglove: {writers[-1].sink.url}", flush=True)
     if log is not None:
+        from ..ecosystem.log_process import LogProcessError
+        from ..runtime.writer_thread import BATCH, DROP
+
+        try:
+            log.prepare(runner, DROP if realtime else BATCH)
+        except LogProcessError as error:
+            print(f"robocop-mission run: error: {error}", file=sys.stderr)
+            for live in writers:
+                live.sink.close()
+            if viewer is not None:
+                viewer.close()
+            return 3
         writers.append(log)
     for observer in writers + [viewer, recorder]:
         if observer is not None:

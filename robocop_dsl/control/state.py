@@ -121,10 +121,10 @@ class ControlState:
         return jacobian
 
     def __getstate__(self) -> dict:
-        """Pickled without its :attr:`sensors` (they read the run's driver): the state of a
-        task's copy that only reads names and poses (:meth:`Task.detached
-        <robocop_dsl.control.Task.detached>`)."""
-        return {**self.__dict__, "sensors": None}
+        """Pickled without its :attr:`sensors` (they read the run's driver) and its
+        :attr:`collision_watch` (coal's objects): the state of a task's copy that only
+        reads names and poses (:meth:`Task.detached <robocop_dsl.control.Task.detached>`)."""
+        return {**self.__dict__, "sensors": None, "collision_watch": None}
 
     def __repr__(self) -> str:
         return f"ControlState(group={self.group.name!r}, dofs={self.dofs}, dt={self.time_step})"

@@ -75,6 +75,7 @@ class LogProcess(Observer):
     """
 
     def __init__(self, folder):
+        self._made = not Path(folder).exists()
         Path(folder).mkdir(parents=True, exist_ok=True)
         self.folder = str(folder)
         self.dropped = 0
@@ -137,10 +138,14 @@ class LogProcess(Observer):
                                     keep=events_of)
 
     def close(self) -> None:
-        """End the process if the run did not (a run that never started)."""
+        """End the process if the run did not (a run that never started), and remove
+        the folder it made when nothing was written in it."""
         if not self._ended and self._process.poll() is None:
             self._process.kill()
             self._process.wait()
+        if self._made and self._policy is None:
+            with contextlib.suppress(OSError):      # not empty: someone else's files
+                os.rmdir(self.folder)
 
     def on_cycle(self, record: CycleRecord) -> None:
         self._items.append(record)
