@@ -235,9 +235,18 @@ def check_action(ctx: CheckContext, action: ast.Action) -> tuple[float, ...] | N
 
 
 def _check_free(ctx: CheckContext, body, verb: str) -> None:
-    """In a world run by physics, only a free body can be welded and released."""
+    """A body a joint moves (a robot's link) is never attached nor detached; in a world
+    run by physics, only a free body can be welded and released."""
     world = ctx.world
-    if world.known and world.simulated and body.text not in world.free_bodies():
+    if not world.known:
+        return
+    moved_by = [] if world.simulated else sorted(world.body_joints(body.text))
+    if moved_by:
+        ctx.error("not-free", f"cannot {verb} '{body.text}': joint '{moved_by[0]}' moves it "
+                  "(it belongs to a robot)", body.span, "attach a body the world places "
+                  "(a part, a point) to the robot's body, not the other way round")
+        return
+    if world.simulated and body.text not in world.free_bodies():
         free = world.free_bodies()
         ctx.error("not-free", f"cannot {verb} '{body.text}' in physics: it is not a free "
                   "body", body.span,
