@@ -20,8 +20,8 @@ mission cycle
 world "bazar/sophia.yaml"
 
 state carry {
-    enter { attach part_body to bazar_left_hankamp_tool_object_side }
-    when elapsed > 20 ms -> loop { attach bazar_left_hankamp_tool_object_side to part_body }
+    enter { attach part_body to drop_point }
+    when elapsed > 20 ms -> loop { attach drop_point to part_body }
 }
 state loop { when elapsed > 20 ms -> done }
 final done
@@ -91,7 +91,7 @@ state carry {
     when elapsed > 20 ms -> divide {
         attach part_body to bazar_left_hankamp_tool_object_side
         attach drop_point to part_body
-        attach bazar_left_hankamp_tool_object_side to drop_point
+        attach part_body to drop_point
     }
 }
 state divide { when elapsed > 20 ms -> done { x = x / z } }
@@ -111,7 +111,7 @@ def test_a_block_s_actions_meet_the_frames_its_earlier_actions_moved(tmp_path):
             "invalid parent 'drop_point'") in text
     assert "final state: carry" in text
     path = write(tmp_path, "divide.mission", SAME_BLOCK.replace(
-        "        attach bazar_left_hankamp_tool_object_side to drop_point\n", ""))
+        "        attach part_body to drop_point\n", ""))
     done = robocop("run", path)
     text = " ".join(done.stdout.split())
     assert done.returncode == 3 and "Traceback" not in done.stderr + done.stdout

@@ -219,7 +219,8 @@ async def test_outline(client: LanguageClient):
 
 @pytest.mark.asyncio
 async def test_formatting_keeps_comments(client: LanguageClient, tmp_path):
-    """Formatting gives the canonical text and keeps every comment."""
+    """Formatting normalises spacing and blocks, keeps every comment and adds no blank
+    line."""
     path = tmp_path / "messy.mission"
     path.write_text('# a mission\nmission  m\nworld "bazar/sophia.yaml"   # the robot\n'
                     "task  arms : joint_position( bazar_arms ) {priority=1}\n"
@@ -228,6 +229,6 @@ async def test_formatting_keeps_comments(client: LanguageClient, tmp_path):
     edits = await client.text_document_formatting_async(types.DocumentFormattingParams(
         types.TextDocumentIdentifier(uri), types.FormattingOptions(4, True)))
     assert edits[0].new_text == (
-        '# a mission\nmission m\n\nworld "bazar/sophia.yaml"  # the robot\n\n'
-        "task arms: joint_position(bazar_arms) {\n    priority = 1\n}\n\n"
-        "state s {\n    # wait\n    when arms.reached -> done\n}\n\nfinal done\n")
+        '# a mission\nmission m\nworld "bazar/sophia.yaml"  # the robot\n'
+        "task arms: joint_position(bazar_arms) {\n    priority = 1\n}\n"
+        "state s {\n    # wait\n    when arms.reached -> done\n}\nfinal done\n")
