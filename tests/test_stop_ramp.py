@@ -94,10 +94,10 @@ def test_the_duration_cap_brakes_then_holds(tmp_path):
 
 
 def test_a_fault_while_moving_brakes_then_holds(tmp_path):
-    """The clause's action raises (attaching the tool to the part it carries): outcome
+    """The clause's action raises (attaching a point to the part attached to it): outcome
     ``fault``, and the robot still brakes at its limit."""
-    actions = (" { attach part_body to bazar_left_hankamp_tool_object_side\n"
-               "        attach bazar_left_hankamp_tool_object_side to part_body }")
+    actions = (" { attach part_body to drop_point\n"
+               "        attach drop_point to part_body }")
     result, commands = run(tmp_path, actions)
     assert result.outcome == "fault"
     assert "action 2 of 'when elapsed > 400 ms -> done' in state 'swing'" in result.message
