@@ -19,8 +19,9 @@ from ..diagnostics import RobocopError
 
 
 def _divided(numerator, divisor):
-    """``numerator / divisor``; a zero divisor is a fault that says so."""
-    if np.any(np.asarray(divisor) == 0):
+    """``numerator / divisor``; a zero divisor is a fault that says so (a condition may
+    divide every cycle: a number is compared as it is, no array made of it)."""
+    if not divisor.all() if isinstance(divisor, np.ndarray) else divisor == 0:
         raise RobocopError("division by zero: the divisor of a '/' is 0")
     return numerator / divisor
 
