@@ -121,3 +121,32 @@ def test_bad_file_from_a_real_process():
     assert done.returncode == 1
     assert done.stdout.count("error[") == 4
     assert done.stderr == ""
+
+
+@pytest.mark.parametrize("written, typed, reported", [
+    ("approach_height], 2 mm, 20 s)", "approach_height, 2 mm, 20 s)",
+     "60:69: error[missing-token]: missing ']' before name 'mm'"),
+    ("enter { left_tool.target = goal }", "enter { left_tool.target = goal offset [0, 0, 1 }",
+     "39:57: error[missing-token]: missing ']' before '}'"),
+    ("let carry_height    = 15 cm", "let carry_height    = [15 cm",
+     "9:27: error[missing-token]: missing ']' before name 'cm'"),
+    ("state grasp: reach(pickup_point, 1 mm, 10 s) {",
+     "state grasp: reach(pickup_point, 1 mm, 10 s {",
+     "66:45: error[missing-token]: missing ')' before '{'"),
+    ("let approach_height = 10 cm", "let approach_height = = 10 cm",
+     "8:23: error[syntax-error]: unexpected '='"),
+])
+def test_a_statement_that_does_not_parse_gets_its_syntax_error_alone(
+        tmp_path, capsys, written, typed, reported):
+    """An unclosed '(' or '[' (or any syntax error) is the one error of its statement:
+    the checker says nothing about the statement's partial call or vector, nor about
+    the uses of a name it declares (without it: a missing argument, a wrong dimension,
+    an unknown body, 'not a number' where the name is used)."""
+    pickup = (REPO / "missions" / "pickup.mission").read_text()
+    assert written in pickup
+    path = tmp_path / "pickup.mission"
+    path.write_text(pickup.replace(written, typed).replace('"bazar/', f'"{REPO}/robots/bazar/'))
+    assert check(str(path), "--format", "json") == 1
+    [report] = json.loads(capsys.readouterr().out)
+    assert [f"{d['span']['line']}:{d['span']['column']}: {d['severity']}[{d['code']}]: "
+            f"{d['message']}" for d in report["diagnostics"]] == [reported]

@@ -3,6 +3,7 @@ check, build the state graph, check it, compile."""
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -12,6 +13,8 @@ import networkx as nx
 from ..check import check_graph, check_mission
 from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, sort_key, unique
 from ..lang import ast, parse_mission
+from ..lang.follow_on import Broken
+from ..lang.parser import ParseResult
 from ..sources import MISSION, WORLD, UnreadableSource, read_source, refusal
 from ..world import World, load_world, resolve_world_path
 from .state_graph import build_state_graph
@@ -115,8 +118,7 @@ def check_source(text: str, path: str | Path = "<mission>", *, world: World | No
     graph = build_state_graph(ctx.expanded)
     if parsed.ok:
         check_graph(ctx, ctx.expanded, graph)
-    diagnostics = tuple(sorted(unique([*parsed.diagnostics, *loading, *ctx.diagnostics]),
-                               key=lambda d: (d.file != source.path, *sort_key(d))))
+    diagnostics = tuple(gathered(parsed, loading, ctx.diagnostics))
     mission = None
     if compiled and not any(d.is_error for d in diagnostics) and world is not None \
             and tree.first(ast.MissionHeader) is not None:
@@ -124,6 +126,17 @@ def check_source(text: str, path: str | Path = "<mission>", *, world: World | No
 
         mission = compile_mission(ctx.expanded, source, world, world_path, graph)
     return CheckResult(source, diagnostics, tree, graph, world, mission)
+
+
+def gathered(parsed: ParseResult, *found: Iterable[Diagnostic]) -> list[Diagnostic]:
+    """The parse's diagnostics and those ``found`` after it (loading the world, the
+    checker's), without repeats and without what only follows from a statement that did
+    not parse (:class:`~robocop_dsl.lang.follow_on.Broken`), the file's own first."""
+    source = parsed.source
+    broken = Broken.of(source, parsed.diagnostics)
+    kept = [d for group in found for d in group if not broken.follows(d, source)]
+    return sorted(unique([*parsed.diagnostics, *kept]),
+                  key=lambda d: (d.file != source.path, *sort_key(d)))
 
 
 def check_file(path: str | Path, *, world: World | None = None,

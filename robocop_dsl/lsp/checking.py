@@ -11,10 +11,10 @@ from pathlib import Path
 from typing import Callable
 
 from ..compile import build_state_graph  # first: it imports the checker
-from ..compile.load import _world_of
+from ..compile.load import _world_of, gathered
 from ..check import Cancelled, check_graph, check_mission  # noqa: I001
 from ..check import imports as checked_imports
-from ..diagnostics import Diagnostic, SourceFile, sort_key, unique
+from ..diagnostics import Diagnostic, SourceFile
 from ..sources import read_source
 from .project import COLLECTOR, Parsed, Project
 
@@ -58,5 +58,4 @@ def check(project: Project, parsed: Parsed, stale: Callable[[], bool] = lambda: 
                 check_graph(ctx, ctx.expanded, build_state_graph(ctx.expanded), stale)
         except Cancelled:
             return None
-    found = unique([*parsed.result.diagnostics, *loading, *ctx.diagnostics])
-    return sorted(found, key=lambda d: (d.file != source.path, *sort_key(d)))
+    return gathered(parsed.result, loading, ctx.diagnostics)
