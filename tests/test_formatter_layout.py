@@ -99,3 +99,22 @@ def test_one_line_block_only_when_it_fits():
     assert formatted(text) == (f'state s {{\n    enter {{ log "short" }}\n    exit {{\n'
                                f'        log "{long}"\n    }}\n}}\n')
     assert 'enter {\n        log "short"\n    }' in format_mission(parse_mission(text).mission)
+
+
+def test_spaces_in_vectors_aligned_types_and_comment_rows_are_kept():
+    """A vector keeps the spaces its author put after '[' and after commas (a matrix's
+    columns stay aligned), a comment line between two of its rows stays there, and the
+    types of adjacent 'var' declarations stay aligned."""
+    text = ('let home = [0,  0.25, 0,    -2,     # left arm\n'
+            '            # the right arm\n'
+            '            0,  0.25, 0.5,  -2] rad\n'
+            'let gains = [ 1.5, -2,\n'
+            '             -0.5,  3]\n'
+            '\n'
+            'var tries:    number   = 0\n'
+            'var deadline: duration = 10 s\n'
+            'var last: duration\n')
+    assert formatted(text) == text
+    respelt = formatted(text.replace("[0,  0", "[0.0,  0"))
+    assert respelt.splitlines()[0].startswith("let home = [0,  0.25, 0,    -2, ")
+    assert formatted("let v = [1,2 ,  3]\n") == "let v = [1, 2,  3]\n"

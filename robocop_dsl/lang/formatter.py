@@ -15,7 +15,7 @@ from contextvars import ContextVar
 
 from . import ast
 from .layout import (BLANK, ROW_BREAK, Line, aligned, comments, joined, rows_split,
-                     vector_rows, with_author_blanks, with_comments)
+                     vector_separators, with_author_blanks, with_comments)
 
 __all__ = ["comments", "format_mission", "format_source", "format_value", "item_lines"]
 
@@ -61,18 +61,17 @@ def format_value(value: ast.Value) -> str:
 
 
 def _vector(vector: ast.Vector) -> str:
-    """``[a, b, c] unit``; rows as the author wrote them while :func:`format_source`
-    prints."""
+    """``[a, b, c] unit``; while :func:`format_source` prints, with the author's rows
+    and spaces between elements (:func:`~.layout.vector_separators`)."""
     elements = [_element(e) for e in vector.values]
     source = _SOURCE.get()
     span = vector.span
-    rows = vector_rows(source, (span.line, span.column), (span.end_line, span.end_column)) \
+    separators = vector_separators(source, (span.line, span.column),
+                                   (span.end_line, span.end_column)) \
         if source is not None and span.line > 0 else None
-    if rows is None or sum(rows) != len(elements):
+    if separators is None or len(separators) != len(elements):
         return "[" + ", ".join(elements) + "]" + _unit(vector.unit)
-    cuts = [sum(rows[:i]) for i in range(len(rows) + 1)]
-    written = [", ".join(elements[a:b]) for a, b in zip(cuts, cuts[1:])]
-    return "[" + f",{ROW_BREAK}".join(written) + "]" + _unit(vector.unit)
+    return "[" + "".join(map(str.__add__, separators, elements)) + "]" + _unit(vector.unit)
 
 
 def _element(element: float | ast.NameElement) -> str:
@@ -191,14 +190,14 @@ def format_transition(transition: ast.Transition) -> str:
 
 def _action_lines(actions: tuple[ast.Action, ...]) -> list[Line]:
     return [Line(format_action(a), a.span.line,
-                 "=" if isinstance(a, (ast.Assign, ast.SetVar)) else None) for a in actions]
+                 ("=",) if isinstance(a, (ast.Assign, ast.SetVar)) else ()) for a in actions]
 
 
 def _transition_lines(transition: ast.Transition) -> list[Line]:
     header = format_transition(transition)
     if not transition.actions:
-        return [Line(header, transition.span.line, "->")]
-    return _block(header, transition.span, _action_lines(transition.actions), "->",
+        return [Line(header, transition.span.line, ("->",))]
+    return _block(header, transition.span, _action_lines(transition.actions), ("->",),
                   _one_line(transition))
 
 
@@ -207,19 +206,20 @@ def _one_line(node) -> bool:
     return len(node.actions) == 1 and node.span.line == node.span.end_line
 
 
-def _block(header: str, span, lines: list[Line], anchor: str | None = None,
+def _block(header: str, span, lines: list[Line], anchors: tuple[str, ...] = (),
            joinable: bool = False) -> list[Line]:
     """``header {``, the indented ``lines`` and ``}``; ``span`` is the block's source."""
     if not lines:
-        return [Line(f"{header} {{}}", span.line, anchor)]
+        return [Line(f"{header} {{}}", span.line, anchors)]
     body = (dataclasses.replace(line, text=f"{INDENT}{line.text}") if line.text else line
             for line in lines)
-    return [Line(f"{header} {{", span.line, anchor, joinable), *body, Line("}", span.end_line)]
+    return [Line(f"{header} {{", span.line, anchors, joinable), *body,
+            Line("}", span.end_line)]
 
 
 def _part_lines(part: ast.StatePart) -> list[Line]:
     if isinstance(part, ast.ActionBlock):
-        return _block(part.kind, part.span, _action_lines(part.actions), None, _one_line(part))
+        return _block(part.kind, part.span, _action_lines(part.actions), (), _one_line(part))
     return _transition_lines(part)
 
 
@@ -332,9 +332,9 @@ def item_lines(item: ast.Item) -> list[Line]:
     """The lines of one item, each with the source line it prints."""
     text = _single(item)
     if text is not None:
+        typed = (":",) if isinstance(item, ast.VarDecl) else ()
         valued = isinstance(item, ast.Let) or (isinstance(item, ast.VarDecl) and item.value)
-        anchor = "=" if valued else None
-        return [Line(text, item.span.line, anchor)]
+        return [Line(text, item.span.line, typed + (("=",) if valued else ()))]
     if isinstance(item, ast.BehaviorDecl):
         return _behavior_lines(item)
     if isinstance(item, ast.TaskDecl):
@@ -388,5 +388,6 @@ def format_source(mission: ast.Mission, text: str) -> str:
         lines = [line for line in _items_lines(mission.items) if line is not BLANK]
     finally:
         _SOURCE.reset(written)
-    lines = rows_split(aligned(joined(with_author_blanks(lines, source)), source), INDENT)
+    lines = rows_split(aligned(joined(with_author_blanks(lines, source)), source), source,
+                       INDENT)
     return "\n".join(with_comments(lines, source, comments(text), INDENT)) + "\n"

@@ -13,6 +13,7 @@ expects it.
 from __future__ import annotations
 
 import dataclasses
+import re
 from dataclasses import dataclass
 
 from .syntax_errors import code_of, comment_start
@@ -24,19 +25,21 @@ SET_APART = 4
 author's choice, kept."""
 ROW_BREAK = "\n"
 """Between the rows of a vector in a printed line, until they are made lines."""
-_ANCHORS = {"=": " = ", "->": " -> ", "{": " {"}
+_ANCHORS = {":": re.compile(r"^\s*var\s+\w+:\s*(\S)"), "=": re.compile(r" (=) "),
+            "->": re.compile(r" (->) "), "{": re.compile(r" (\{)")}
+"""Where each kind of anchor is in a line's code: the first group's start."""
 
 
 @dataclass(frozen=True)
 class Line:
     """One output line and the source line it prints (0 for a blank line the formatter
-    adds). ``anchor`` is the separator adjacent lines may align (``=``, ``->``, ``{``);
-    ``joinable`` marks the header of a block of one action that was written on one
+    adds). ``anchors`` are the columns adjacent lines may align, left to right (``:``
+    for the type of a ``var``, then ``=``, ``->`` or ``{``); ``joinable`` marks the header of a block of one action that was written on one
     line; ``row`` a vector's row after the first."""
 
     text: str
     origin: int = 0
-    anchor: str | None = None
+    anchors: tuple[str, ...] = ()
     joinable: bool = False
     row: bool = False
 
@@ -70,21 +73,34 @@ def _blank(source: list[str], number: int) -> bool:
     return 0 < number <= len(source) and not source[number - 1].strip()
 
 
-def vector_rows(source: list[str], start: tuple[int, int], end: tuple[int, int]
-                ) -> tuple[int, ...] | None:
-    """How many elements each row of a vector written from ``start`` to ``end`` (1-based
-    line and column, end exclusive) holds, when it spans several lines."""
-    if start[0] == end[0]:
-        return None
-    written = [source[start[0] - 1][start[1] - 1:]] + source[start[0]:end[0] - 1] \
+def vector_separators(source: list[str], start: tuple[int, int], end: tuple[int, int]
+                      ) -> list[str] | None:
+    """What goes before each element of a vector written from ``start`` to ``end``
+    (1-based line and column, end exclusive) to keep its author's layout: the spaces
+    after ``[`` and after each comma (one at least), or a comma and :data:`ROW_BREAK`
+    where the next element is on a later line. ``None`` when the vector is written on
+    one line with single spaces."""
+    rows = [source[start[0] - 1][start[1] - 1:end[1] - 1]] if start[0] == end[0] else \
+        [source[start[0] - 1][start[1] - 1:]] + source[start[0]:end[0] - 1] \
         + [source[end[0] - 1][:end[1] - 1]]
-    rows = []
-    for row in written:
-        inside = code_of(row).split("]")[0].lstrip("[ \t")
-        count = sum(1 for piece in inside.split(",") if piece.strip())
-        if count:
-            rows.append(count)
-    return tuple(rows) if len(rows) > 1 else None
+    separators: list[str] = []
+    broken = False
+    for number, row in enumerate(rows):
+        code = code_of(row).split("]")[0]
+        pieces = (code.split("[", 1)[1] if number == 0 else code).split(",")
+        for index, piece in enumerate(pieces):
+            if not piece.strip():
+                continue
+            spaces = " " * (len(piece) - len(piece.lstrip()))
+            if not separators:
+                separators.append(spaces)
+            elif index == 0:
+                separators.append("," + ROW_BREAK)
+                broken = True
+            else:
+                separators.append("," + (spaces or " "))
+    plain = separators[:1] == [""] and all(s == ", " for s in separators[1:])
+    return None if plain and not broken else separators
 
 
 def with_author_blanks(lines: list[Line], source: list[str]) -> list[Line]:
@@ -110,7 +126,7 @@ def joined(lines: list[Line]) -> list[Line]:
             text = f"{line.text} {lines[index + 1].text.strip()} }}"
             if len(text) <= WIDTH and ROW_BREAK not in text:
                 out.append(dataclasses.replace(line, text=text, joinable=False,
-                                               anchor=line.anchor or "{"))
+                                               anchors=line.anchors or ("{",)))
                 index += 3
                 continue
         out.append(line)
@@ -119,45 +135,45 @@ def joined(lines: list[Line]) -> list[Line]:
 
 
 def _anchor_column(text: str, anchor: str) -> int | None:
-    """Where the separator ``anchor`` starts in ``text``, outside strings."""
-    found = code_of(text).find(_ANCHORS[anchor])
-    return None if found < 0 else found + 1
+    """Where what ``anchor`` aligns starts in ``text`` (0-based), outside strings."""
+    found = _ANCHORS[anchor].search(code_of(text))
+    return None if found is None else found.start(1)
 
 
 def aligned(lines: list[Line], source: list[str]) -> list[Line]:
-    """Adjacent statements whose separator the author aligned, aligned again: at the
-    author's column, or further when a statement now needs it."""
+    """Adjacent statements whose anchors the author aligned, aligned again, each kind
+    in turn: at the author's column, or further when a statement now needs it."""
     out = list(lines)
-    index = 0
-    while index < len(out):
-        group = _group(out, index, source)
-        if len(group) > 1:
-            anchor = out[index].anchor
-            wanted = _anchor_column(source[out[index].origin - 1], anchor)
-            needed = max(len(out[i].text[:_anchor_column(out[i].text, anchor)].rstrip()) + 1
-                         for i in group)
-            for i in group:
-                text = out[i].text
-                at = _anchor_column(text, anchor)
-                column = max(wanted, needed)
-                out[i] = dataclasses.replace(
-                    out[i], text=text[:at].rstrip().ljust(column) + text[at:])
-        index += max(len(group), 1)
+    for anchor in _ANCHORS:
+        index = 0
+        while index < len(out):
+            group = _group(out, index, source, anchor)
+            if len(group) > 1:
+                wanted = _anchor_column(source[out[index].origin - 1], anchor)
+                needed = max(len(out[i].text[:_anchor_column(out[i].text, anchor)].rstrip())
+                             + 1 for i in group)
+                for i in group:
+                    text = out[i].text
+                    at = _anchor_column(text, anchor)
+                    column = max(wanted, needed)
+                    out[i] = dataclasses.replace(
+                        out[i], text=text[:at].rstrip().ljust(column) + text[at:])
+            index += max(len(group), 1)
     return out
 
 
-def _group(lines: list[Line], start: int, source: list[str]) -> list[int]:
-    """The lines from ``start`` on whose separator was at one column in adjacent source
+def _group(lines: list[Line], start: int, source: list[str], anchor: str) -> list[int]:
+    """The lines from ``start`` on whose ``anchor`` was at one column in adjacent source
     lines (nothing but the first statement's own lines between them)."""
     first = lines[start]
-    if first.anchor is None or not first.origin:
+    if anchor not in first.anchors or not first.origin:
         return []
-    column = _anchor_column(source[first.origin - 1], first.anchor)
+    column = _anchor_column(source[first.origin - 1], anchor)
     group = [start]
     for index in range(start + 1, len(lines)):
         line, previous = lines[index], lines[index - 1]
-        if (line.anchor != first.anchor or not line.origin or column is None
-                or _anchor_column(source[line.origin - 1], line.anchor) != column
+        if (anchor not in line.anchors or not line.origin or column is None
+                or _anchor_column(source[line.origin - 1], anchor) != column
                 or any(not code_of(source[n - 1]).strip()
                        for n in range(previous.origin + 1, line.origin))):
             break
@@ -165,10 +181,11 @@ def _group(lines: list[Line], start: int, source: list[str]) -> list[int]:
     return group
 
 
-def rows_split(lines: list[Line], indent: str) -> list[Line]:
+def rows_split(lines: list[Line], source: list[str], indent: str) -> list[Line]:
     """Each row of a printed line on a line of its own: after the first, under the
     first thing inside the innermost bracket still open, else under the condition of a
-    ``when`` or one ``indent`` deeper."""
+    ``when`` or one ``indent`` deeper. Each row prints the next source line with code
+    (a comment line between two rows stays between them)."""
     out: list[Line] = []
     for line in lines:
         if ROW_BREAK not in line.text:
@@ -179,8 +196,11 @@ def rows_split(lines: list[Line], indent: str) -> list[Line]:
         for row in rest:
             rows.append(" " * _continuation(rows, indent) + row.lstrip())
         out.append(dataclasses.replace(line, text=first))
-        out += [Line(text, line.origin + number, row=True)
-                for number, text in enumerate(rows[1:], 1)]
+        origin = line.origin
+        for text in rows[1:]:
+            origin = next((n for n in range(origin + 1, len(source) + 1)
+                           if code_of(source[n - 1]).strip()), origin + 1)
+            out.append(Line(text, origin, row=True))
     return out
 
 
