@@ -193,6 +193,29 @@ async def test_one_token_type_per_kind_of_name(client: LanguageClient):
 
 
 @pytest.mark.asyncio
+async def test_an_axis_name_has_one_token_type_wherever_it_is_written(client: LanguageClient):
+    """'z' in a force task's 'axes = [z]', in 'force(panda_hand).z' and in
+    'position.z' is the same word of the vocabulary: one token type, a property, as
+    for every setting (it was a variable in the vector)."""
+    path = MISSIONS / "panda_press.mission"
+    lines = path.read_text().split("\n")
+    uri = await opened(client, path)
+    tokens = await client.text_document_semantic_tokens_full_async(
+        types.SemanticTokensParams(types.TextDocumentIdentifier(uri)))
+    found: dict[int, set] = {}
+    line = start = 0
+    for index in range(0, len(tokens.data), 5):
+        delta_line, delta_start, length, kind, _ = tokens.data[index:index + 5]
+        line, start = line + delta_line, (start if not delta_line else 0) + delta_start
+        if lines[line][start:start + length] == "z":
+            found.setdefault(line, set()).add(TOKEN_TYPES[kind])
+    written = {number for number, text in enumerate(lines)
+               if "[z]" in text or ").z" in text or ".position.z" in text}
+    assert set(found) == written and len(written) >= 3
+    assert set().union(*found.values()) == {"property"}
+
+
+@pytest.mark.asyncio
 async def test_an_imported_library_is_seen_as_edited(client: LanguageClient):
     """The unsaved text of an open library is what the missions importing it are
     checked against: a task taken out of it is unknown to them at once."""

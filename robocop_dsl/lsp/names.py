@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 from ..diagnostics import Span
 from ..lang import ast
+from ..lang.catalogue import AXES as AXES_KIND, CONSTRAINTS, TASKS
 
 # Declarations.
 TASK = "task"
@@ -127,9 +128,17 @@ class _Walker:
         self.add(TYPE, decl.kind, context=family)
         for argument in decl.arguments:
             self.add(SUBJECT, argument, context=decl.kind.text)
+        kind = (TASKS if family == TASK else CONSTRAINTS).get(decl.kind.text)
         for parameter in decl.parameters:
             self.add(SETTING, parameter.name, context=f"{family}:{decl.kind.text}")
-            self.value(parameter.value)
+            spec = kind.parameter(parameter.name.text) if kind is not None else None
+            if spec is not None and spec.kind == AXES_KIND \
+                    and isinstance(parameter.value, ast.Vector):
+                for element in parameter.value.values:
+                    if isinstance(element, ast.NameElement):
+                        self.add(FIELD, element.name, context=AXES_KIND)
+            else:
+                self.value(parameter.value)
 
     def behavior_decl(self, behavior: ast.BehaviorDecl) -> None:
         self.add(BEHAVIOR, behavior.name, True, node=behavior)

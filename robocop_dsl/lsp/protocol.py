@@ -1,5 +1,5 @@
 """The JSON-RPC side of the server: pygls's protocol, with a request whose parameters
-are not valid (a negative position, one past 2^31 - 1, a missing field), a message that
+are not valid (a negative or fractional position, one past 2^31 - 1, a missing field), a message that
 is not a request, a notification or a response, and a request after ``shutdown``
 answered by an error that says what is wrong instead of being dropped, and the
 documents' texts left to the server (pygls's own copies, rebuilt line by line at each
@@ -12,7 +12,7 @@ import logging
 from lsprotocol import types
 from pygls.exceptions import (JsonRpcInvalidParams, JsonRpcInvalidRequest,
                               JsonRpcParseError, JsonRpcRequestCancelled)
-from pygls.protocol import LanguageServerProtocol, lsp_method
+from pygls.protocol import LanguageServerProtocol, default_converter, lsp_method
 
 _MESSAGE_KEYS = ("method", "result", "error")
 """A JSON-RPC message has one of these: a request or notification, or a response."""
@@ -22,6 +22,31 @@ class _Answered:
     """A request already answered with an error: there is nothing left to handle."""
 
     jsonrpc = None
+
+
+def _integer(value, _type) -> int:
+    """An integer field's value: a JSON integer (``2.0`` counts), never a fraction, a
+    boolean or a string, which cattrs would otherwise round or convert."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not float(value).is_integer():
+        raise ValueError(f"{value!r} is not an integer")
+    return int(value)
+
+
+def _boolean(value, _type) -> bool:
+    """A boolean field's value: ``true`` or ``false``, not a number cattrs would convert."""
+    if not isinstance(value, bool):
+        raise ValueError(f"{value!r} is not a boolean")
+    return value
+
+
+def converter():
+    """pygls's converter, strict about integers (positions, versions) and booleans;
+    enumerations (``int`` subclasses) keep their own hooks."""
+    made = default_converter()
+    made.register_structure_hook_func(lambda kind: kind is int, _integer)
+    made.register_structure_hook_func(lambda kind: kind is bool, _boolean)
+    return made
 
 
 def _reasons(error: BaseException) -> list[str]:

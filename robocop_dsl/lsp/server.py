@@ -34,7 +34,7 @@ from . import (checking, completion, diagnostics, folding, formatting, hover, na
 from .changes import Texts
 from .positions import SPELLINGS, Encoding, path_to_uri, unknown_document, uri_to_path
 from .project import COLLECTOR, Project
-from .protocol import MissionProtocol, Refusals
+from .protocol import MissionProtocol, Refusals, converter
 from .scheduler import Checks
 from .worlds import WorldStore
 
@@ -47,7 +47,8 @@ class MissionServer(LanguageServer):
     """A pygls server holding the :class:`Project` of the editor's workspace."""
 
     def __init__(self):
-        super().__init__("robocop-mission", __version__, protocol_cls=MissionProtocol)
+        super().__init__("robocop-mission", __version__, protocol_cls=MissionProtocol,
+                         converter_factory=converter)
         self.project = Project(WorldStore(on_load=self.world_loaded))
         self.checks = Checks(self.project.open, self.check, self.publish, self.open_importers,
                              self.check_failed)
