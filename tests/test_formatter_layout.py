@@ -118,3 +118,5 @@ def test_spaces_in_vectors_aligned_types_and_comment_rows_are_kept():
     respelt = formatted(text.replace("[0,  0", "[0.0,  0"))
     assert respelt.splitlines()[0].startswith("let home = [0,  0.25, 0,    -2, ")
     assert formatted("let v = [1,2 ,  3]\n") == "let v = [1, 2,  3]\n"
+    between_rows = "let v = [1, 2,\n\n         3, 4]\nlet w = 1\n"
+    assert formatted(between_rows) == between_rows

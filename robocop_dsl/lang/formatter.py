@@ -388,6 +388,6 @@ def format_source(mission: ast.Mission, text: str) -> str:
         lines = [line for line in _items_lines(mission.items) if line is not BLANK]
     finally:
         _SOURCE.reset(written)
-    lines = rows_split(aligned(joined(with_author_blanks(lines, source)), source), source,
-                       INDENT)
+    lines = with_author_blanks(rows_split(aligned(joined(lines), source), source, INDENT),
+                               source)
     return "\n".join(with_comments(lines, source, comments(text), INDENT)) + "\n"

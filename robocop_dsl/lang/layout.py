@@ -104,7 +104,8 @@ def vector_separators(source: list[str], start: tuple[int, int], end: tuple[int,
 
 
 def with_author_blanks(lines: list[Line], source: list[str]) -> list[Line]:
-    """``lines`` with a blank line between two statements where the source has one."""
+    """``lines`` with a blank line between two of them (statements, or rows of one)
+    where the source has one."""
     out: list[Line] = []
     previous = 0
     for line in lines:
