@@ -83,6 +83,55 @@ def test_a_message_without_method_result_or_error_is_an_invalid_request(wire):
     assert answer["error"]["code"] == -32600
 
 
+@pytest.mark.parametrize("line, refused", [(1.5, "1.5 is not an integer"),
+                                           (True, "True is not an integer"),
+                                           ("3", "'3' is not an integer"),
+                                           (2.0, None)])
+def test_a_position_that_is_not_an_integer_is_refused_not_rounded(wire, line, refused):
+    """A position must be an integer (JSON's 2.0 is one): a fraction, a boolean or a
+    string gets an 'invalid params' error for every request that takes a position,
+    where it used to be rounded (a hover on another line) or converted."""
+    uri = (MISSIONS / "pickup.mission").as_uri()
+    wire.send({"method": "textDocument/didOpen", "params": {"textDocument": {
+        "uri": uri, "languageId": "robocop-mission", "version": 1,
+        "text": (MISSIONS / "pickup.mission").read_text()}}})
+    at = {"textDocument": {"uri": uri}, "position": {"line": line, "character": 4}}
+    for msg_id, method in enumerate(["textDocument/hover", "textDocument/completion",
+                                     "textDocument/definition", "textDocument/references",
+                                     "textDocument/signatureHelp"], 10):
+        context = {"context": {"includeDeclaration": True}} if "references" in method else {}
+        answer = wire.request(msg_id, method, {**at, **context})
+        if refused is None:
+            assert "error" not in answer
+        else:
+            assert answer["error"]["code"] == -32602
+            assert refused in answer["error"]["message"]
+
+
+def test_options_that_are_not_integers_or_booleans_are_refused(wire):
+    """Formatting options and a diagnostic's severity are checked as strictly; the
+    server's own diagnostics still come back through a quick fix (their severity is an
+    enumeration of integers)."""
+    uri = (MISSIONS / "pickup.mission").as_uri()
+    wire.send({"method": "textDocument/didOpen", "params": {"textDocument": {
+        "uri": uri, "languageId": "robocop-mission", "version": 1,
+        "text": (MISSIONS / "pickup.mission").read_text().replace("-> grasp", "-> grsp")}}})
+    published = wire.reply(lambda m: m.get("method") == "textDocument/publishDiagnostics")
+    diagnostic = next(d for d in published["params"]["diagnostics"]
+                      if d["code"] == "unknown-state")
+    document = {"textDocument": {"uri": uri}}
+    for msg_id, options in enumerate([{"tabSize": 4.5, "insertSpaces": True},
+                                      {"tabSize": 4, "insertSpaces": 1}], 20):
+        answer = wire.request(msg_id, "textDocument/formatting", {**document,
+                                                                  "options": options})
+        assert answer["error"]["code"] == -32602
+    fix = {**document, "range": diagnostic["range"], "context": {"diagnostics": [diagnostic]}}
+    [action] = wire.request(30, "textDocument/codeAction", fix)["result"]
+    assert action["diagnostics"] == [diagnostic] and action["isPreferred"] is True
+    bad = {**fix, "context": {"diagnostics": [{**diagnostic, "severity": 1.5}]}}
+    assert wire.request(31, "textDocument/codeAction", bad)["error"]["code"] == -32602
+
+
 def test_requests_after_shutdown_are_refused_and_exit_ends_with_code_0(wire):
     assert wire.request(2, "shutdown")["result"] is None
     uri = (MISSIONS / "pickup.mission").as_uri()

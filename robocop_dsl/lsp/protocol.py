@@ -24,16 +24,18 @@ class _Answered:
     jsonrpc = None
 
 
-def _integer(value, _type) -> int:
+def _integer(value, kind: type) -> int:
     """An integer field's value: a JSON integer (``2.0`` counts), never a fraction, a
-    boolean or a string, which cattrs would otherwise round or convert."""
+    boolean or a string, which cattrs would otherwise round or convert. ``kind`` is
+    ``int`` or one of its subclasses (an ``IntEnum`` such as a diagnostic's severity),
+    which the value is made into."""
     if isinstance(value, bool) or not isinstance(value, (int, float)) \
             or not float(value).is_integer():
         raise ValueError(f"{value!r} is not an integer")
-    return int(value)
+    return kind(int(value))
 
 
-def _boolean(value, _type) -> bool:
+def _boolean(value, _kind) -> bool:
     """A boolean field's value: ``true`` or ``false``, not a number cattrs would convert."""
     if not isinstance(value, bool):
         raise ValueError(f"{value!r} is not a boolean")
@@ -41,11 +43,11 @@ def _boolean(value, _type) -> bool:
 
 
 def converter():
-    """pygls's converter, strict about integers (positions, versions) and booleans;
-    enumerations (``int`` subclasses) keep their own hooks."""
+    """pygls's converter, strict about integers (positions, versions, enumerations'
+    values) and booleans."""
     made = default_converter()
-    made.register_structure_hook_func(lambda kind: kind is int, _integer)
-    made.register_structure_hook_func(lambda kind: kind is bool, _boolean)
+    made.register_structure_hook(int, _integer)
+    made.register_structure_hook(bool, _boolean)
     return made
 
 
