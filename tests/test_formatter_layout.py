@@ -120,3 +120,15 @@ def test_spaces_in_vectors_aligned_types_and_comment_rows_are_kept():
     assert formatted("let v = [1,2 ,  3]\n") == "let v = [1, 2,  3]\n"
     between_rows = "let v = [1, 2,\n\n         3, 4]\nlet w = 1\n"
     assert formatted(between_rows) == between_rows
+
+
+def test_a_vector_that_opens_its_first_row_on_a_new_line_keeps_its_rows_and_comments():
+    """Rows that start on the line after '[': each keeps its line and its comment
+    (they used to shift up one row, two comments ending on one line)."""
+    text = "let v = [   # joints\n    1, 2,   # left\n    3, 4]   # right\nlet w = 1\n"
+    assert formatted(text) == ("let v = [       # joints\n"
+                               "         1, 2,  # left\n"
+                               "         3, 4]  # right\n"
+                               "let w = 1\n")
+    assert formatted("let v = [\n    1, 2,\n    3]\n") == \
+        "let v = [\n         1, 2,\n         3]\n"

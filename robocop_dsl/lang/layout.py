@@ -34,8 +34,9 @@ _ANCHORS = {":": re.compile(r"^\s*var\s+\w+:\s*(\S)"), "=": re.compile(r" (=) ")
 class Line:
     """One output line and the source line it prints (0 for a blank line the formatter
     adds). ``anchors`` are the columns adjacent lines may align, left to right (``:``
-    for the type of a ``var``, then ``=``, ``->`` or ``{``); ``joinable`` marks the header of a block of one action that was written on one
-    line; ``row`` a vector's row after the first."""
+    for the type of a ``var``, then ``=``, ``->`` or ``{``); ``joinable`` marks the
+    header of a block of one action that was written on one line; ``row`` a vector's
+    row after the first."""
 
     text: str
     origin: int = 0
@@ -77,9 +78,9 @@ def vector_separators(source: list[str], start: tuple[int, int], end: tuple[int,
                       ) -> list[str] | None:
     """What goes before each element of a vector written from ``start`` to ``end``
     (1-based line and column, end exclusive) to keep its author's layout: the spaces
-    after ``[`` and after each comma (one at least), or a comma and :data:`ROW_BREAK`
-    where the next element is on a later line. ``None`` when the vector is written on
-    one line with single spaces."""
+    after ``[`` and after each comma (one at least), or :data:`ROW_BREAK` (after a
+    comma but for the first) where the element is on a later line. ``None`` when the
+    vector is written on one line with single spaces."""
     rows = [source[start[0] - 1][start[1] - 1:end[1] - 1]] if start[0] == end[0] else \
         [source[start[0] - 1][start[1] - 1:]] + source[start[0]:end[0] - 1] \
         + [source[end[0] - 1][:end[1] - 1]]
@@ -93,7 +94,8 @@ def vector_separators(source: list[str], start: tuple[int, int], end: tuple[int,
                 continue
             spaces = " " * (len(piece) - len(piece.lstrip()))
             if not separators:
-                separators.append(spaces)
+                separators.append(spaces if number == 0 else ROW_BREAK)
+                broken = broken or number > 0
             elif index == 0:
                 separators.append("," + ROW_BREAK)
                 broken = True

@@ -1,9 +1,9 @@
 """The JSON-RPC side of the server: pygls's protocol, with a request whose parameters
-are not valid (a negative or fractional position, one past 2^31 - 1, a missing field), a message that
-is not a request, a notification or a response, and a request after ``shutdown``
-answered by an error that says what is wrong instead of being dropped, and the
-documents' texts left to the server (pygls's own copies, rebuilt line by line at each
-change, are not kept)."""
+are not valid (a negative or fractional position, one past 2^31 - 1, a missing
+field), a message that is not a request, a notification or a response, and a request
+after ``shutdown`` answered by an error that says what is wrong instead of being
+dropped, and the documents' texts left to the server (pygls's own copies, rebuilt
+line by line at each change, are not kept)."""
 
 from __future__ import annotations
 
