@@ -150,3 +150,33 @@ def test_a_statement_that_does_not_parse_gets_its_syntax_error_alone(
     [report] = json.loads(capsys.readouterr().out)
     assert [f"{d['span']['line']}:{d['span']['column']}: {d['severity']}[{d['code']}]: "
             f"{d['message']}" for d in report["diagnostics"]] == [reported]
+
+
+def test_a_declaration_that_recovery_mended_is_checked_like_any_other(tmp_path, capsys):
+    """The header of state grasp lacks its ')': recovery mends it, so the state exists,
+    and enabling it as if it were a task is still reported with the syntax error."""
+    pickup = (REPO / "missions" / "pickup.mission").read_text()
+    text = pickup.replace("state grasp: reach(pickup_point, 1 mm, 10 s) {",
+                          "state grasp: reach(pickup_point, 1 mm, 10 s {")
+    text = text.replace("        disable left_tool\n", "        disable left_tool\n"
+                        "        enable grasp\n", 1)
+    path = tmp_path / "pickup.mission"
+    path.write_text(text.replace('"bazar/', f'"{REPO}/robots/bazar/'))
+    assert check(str(path), "--format", "json") == 1
+    [report] = json.loads(capsys.readouterr().out)
+    assert [(d["code"], d["message"]) for d in report["diagnostics"]] == [
+        ("missing-token", "missing ')' before '{'"),
+        ("unknown-task", "unknown task or constraint 'grasp'")]
+
+
+def test_a_library_statement_that_does_not_parse_gets_its_syntax_error_alone(tmp_path, capsys):
+    """A 'let' of an imported library left with an open '[': its importer sees that
+    syntax error, not the library's uses of the constant as 'not a number'."""
+    for name in ("two_parts.mission", "bazar_common.mission"):
+        text = (REPO / "missions" / name).read_text()
+        text = text.replace("let carry_height    = 15 cm", "let carry_height    = [15 cm")
+        (tmp_path / name).write_text(text.replace('"bazar/', f'"{REPO}/robots/bazar/'))
+    assert check(str(tmp_path / "two_parts.mission"), "--format", "json") == 1
+    [report] = json.loads(capsys.readouterr().out)
+    assert [(Path(d["file"]).name, d["code"], d["message"]) for d in report["diagnostics"]] == [
+        ("bazar_common.mission", "missing-token", "missing ']' before name 'cm'")]

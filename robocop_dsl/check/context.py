@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 from ..diagnostics import Diagnostic, SourceFile, Span, did_you_mean
 from ..lang import ast
+from ..lang.follow_on import Broken
 from ..lang.units import ANGLE, LENGTH
 
 _ROTATIONAL = ("revolute", "continuous")
@@ -177,7 +178,8 @@ class CheckContext:
     number or a vector. ``expanded`` is the mission with constants and behaviour
     instances bound, once checked, and ``unused`` the behaviours that no instance exposes (name and machine, checked with
     generic bindings); ``imports_parsed`` is false when an imported file has a syntax
-    error. ``declared`` holds, by constraint name, the value and numbers [SI] its
+    error, and ``broken`` the statements of each such file that did not parse (by its
+path as shown). ``declared`` holds, by constraint name, the value and numbers [SI] its
     declaration gives to each parameter that must stay ordered (``min_position``...).
     ``variables`` are the vars the machine being checked sees (name to
     :class:`~.variables.VarInfo`), ``mission_variables`` those the mission declares at
@@ -203,6 +205,7 @@ class CheckContext:
         self.expanded = ast.Mission()
         self.unused: list[tuple[ast.Name, ast.Machine]] = []
         self.imports_parsed = True
+        self.broken: dict[str, Broken] = {}
         self.declared: dict[str, dict[str, tuple]] = {}
         self.variables: dict = {}
         self.mission_variables: dict = {}

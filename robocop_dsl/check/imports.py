@@ -15,6 +15,7 @@ from pathlib import Path
 
 from ..diagnostics import SourceFile, did_you_mean
 from ..lang import ast, parse_mission
+from ..lang.follow_on import Broken
 from ..sources import MISSION, UnreadableSource, read_source
 from ..world.paths import resolve
 from .context import CheckContext
@@ -129,6 +130,8 @@ class _Loader:
         tree, diagnostics = parsed_library(text, shown)
         self.ctx.sources[shown] = SourceFile(shown, text)
         self.ctx.diagnostics += diagnostics
+        if diagnostics:
+            self.ctx.broken[shown] = Broken.of(self.ctx.sources[shown], diagnostics, tree)
         self.ctx.imports_parsed = self.ctx.imports_parsed and not diagnostics
         return tree
 

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 import networkx as nx
 
 from ..check import check_graph, check_mission
+from ..check.context import CheckContext
 from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, sort_key, unique
 from ..lang import ast, parse_mission
 from ..lang.follow_on import Broken
@@ -118,7 +119,7 @@ def check_source(text: str, path: str | Path = "<mission>", *, world: World | No
     graph = build_state_graph(ctx.expanded)
     if parsed.ok:
         check_graph(ctx, ctx.expanded, graph)
-    diagnostics = tuple(gathered(parsed, loading, ctx.diagnostics))
+    diagnostics = tuple(gathered(parsed, loading, ctx))
     mission = None
     if compiled and not any(d.is_error for d in diagnostics) and world is not None \
             and tree.first(ast.MissionHeader) is not None:
@@ -128,13 +129,17 @@ def check_source(text: str, path: str | Path = "<mission>", *, world: World | No
     return CheckResult(source, diagnostics, tree, graph, world, mission)
 
 
-def gathered(parsed: ParseResult, *found: Iterable[Diagnostic]) -> list[Diagnostic]:
-    """The parse's diagnostics and those ``found`` after it (loading the world, the
-    checker's), without repeats and without what only follows from a statement that did
-    not parse (:class:`~robocop_dsl.lang.follow_on.Broken`), the file's own first."""
+def gathered(parsed: ParseResult, loading: Iterable[Diagnostic], ctx: CheckContext
+             ) -> list[Diagnostic]:
+    """The parse's diagnostics, those of loading the world and the checker's, without
+    repeats and without what only follows from a statement that did not parse, in this
+    file or one it imports (:class:`~robocop_dsl.lang.follow_on.Broken`), the file's own
+    first."""
     source = parsed.source
-    broken = Broken.of(source, parsed.diagnostics)
-    kept = [d for group in found for d in group if not broken.follows(d, source)]
+    broken = {source.path: Broken.of(source, parsed.diagnostics, parsed.mission),
+              **ctx.broken}
+    kept = [d for d in [*loading, *ctx.diagnostics]
+            if d.file not in broken or not broken[d.file].follows(d)]
     return sorted(unique([*parsed.diagnostics, *kept]),
                   key=lambda d: (d.file != source.path, *sort_key(d)))
 

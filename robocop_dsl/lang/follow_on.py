@@ -5,11 +5,13 @@ the one thing to fix there; the rest would be noise before it.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 
 from ..diagnostics import Diagnostic, SourceFile
+from . import ast
 from .syntax_errors import CONTINUED, UNCLOSED, code_of
 
 _DECLARES = re.compile(r"\s*(?:let|task|constraint|event|behavior|state|final|region)\s+"
@@ -18,19 +20,24 @@ _DECLARES = re.compile(r"\s*(?:let|task|constraint|event|behavior|state|final|re
 
 @dataclass(frozen=True)
 class Broken:
-    """The lines of the statements of one file that hold a syntax error, and the names
-    those statements declare."""
+    """The lines of the statements of one file that hold a syntax error (``syntax``),
+    and the names those statements declare that the tree lacks or holds partly."""
 
-    path: str
+    source: SourceFile
+    syntax: frozenset[Diagnostic]
     lines: frozenset[int]
     names: frozenset[str]
 
     @classmethod
-    def of(cls, source: SourceFile, syntax: Iterable[Diagnostic]) -> "Broken":
+    def of(cls, source: SourceFile, syntax: Iterable[Diagnostic], tree: ast.Mission
+           ) -> "Broken":
         """The statements of ``source`` that the syntax errors ``syntax`` fall in: each
         error's line with the lines its statement goes on over (a line ending with
         ``,``, ``(``, ``[``, ``and``, ``or`` or ``not``). A block left open is not a
-        broken statement: its header parsed."""
+        broken statement: its header parsed. A name they declare counts when ``tree``
+        (what parsed) has no declaration of it there, or only a ``let`` (its value
+        partial): a declaration that recovery mended is as good as any other."""
+        syntax = frozenset(syntax)
         lines: set[int] = set()
         names: set[str] = set()
         for diagnostic in syntax:
@@ -45,16 +52,37 @@ class Broken:
             declared = _DECLARES.match(code_of(source.line(first)))
             if declared:
                 names.add(declared.group(1))
-        return cls(source.path, frozenset(lines), frozenset(names))
+        if names:
+            names -= {name for name, node in _declarations(tree, lines)
+                      if not isinstance(node, ast.Let)}
+        return cls(source, syntax, frozenset(lines), frozenset(names))
 
-    def follows(self, diagnostic: Diagnostic, source: SourceFile) -> bool:
-        """Whether ``diagnostic`` of the checker is about a broken statement of this
+    def follows(self, diagnostic: Diagnostic) -> bool:
+        """Whether ``diagnostic``, of the checker, is about a broken statement of this
         file or about a name one declares (its span is that name)."""
         span = diagnostic.span
-        if span is None or diagnostic.file != self.path or span.file not in (None, self.path):
+        if span is None or diagnostic.file != self.source.path or diagnostic in self.syntax:
             return False
         if span.line in self.lines:
             return True
         if span.line != span.end_line:
             return False
-        return source.line(span.line)[span.column - 1:span.end_column - 1] in self.names
+        return self.source.line(span.line)[span.column - 1:span.end_column - 1] in self.names
+
+
+def _declarations(node, lines: frozenset[int] | set[int]):
+    """``(name, declaration)`` of each declaration under ``node`` that starts on one of
+    ``lines``."""
+    if isinstance(node, tuple):
+        for item in node:
+            yield from _declarations(item, lines)
+        return
+    if not isinstance(node, ast.Node):
+        return
+    name = getattr(node, "name", None)
+    if isinstance(name, ast.Name) and not isinstance(node, ast.Name) \
+            and node.span.line in lines:
+        yield name.text, node
+    for field in dataclasses.fields(node):
+        if field.name != "span":
+            yield from _declarations(getattr(node, field.name), lines)

@@ -58,4 +58,4 @@ def check(project: Project, parsed: Parsed, stale: Callable[[], bool] = lambda: 
                 check_graph(ctx, ctx.expanded, build_state_graph(ctx.expanded), stale)
         except Cancelled:
             return None
-    return gathered(parsed.result, loading, ctx.diagnostics)
+    return gathered(parsed.result, loading, ctx)
