@@ -180,3 +180,22 @@ def test_garbage_never_raises(text):
     result = parse_mission(text)
     assert result.diagnostics
     assert all(d.code and d.is_error for d in result.diagnostics)
+
+
+@pytest.mark.parametrize("header, broken", [
+    ("    state moving {", "    state moving moving {"),
+    ("state lift: reach(pickup_point offset [0, 0, carry_height], 2 mm, 10 s) {",
+     "state lift: reach(pickup_point offset [0, 0, carry_height], 2 mm, 10 s) ) {"),
+    ("task arms: joint_position(bazar_arms) {", "task arms joint_position(bazar_arms) {"),
+])
+def test_a_block_whose_header_does_not_parse_is_skipped_whole(header, broken):
+    """A block whose header has a syntax error is skipped to its matching '}': its
+    lines are not read as statements of the block around it (each an 'unexpected'
+    error, its '}' closing the outer block early), and everything after it parses."""
+    assert header in PICKUP
+    result = parse_mission(PICKUP.replace(header, broken, 1), "t.mission")
+    line = PICKUP.split("\n").index(header) + 1
+    assert result.diagnostics and {d.span.line for d in result.diagnostics} == {line}
+    assert {"grasp", "move_to_drop", "release", "done", "failed"} <= \
+        {s.name.text for s in result.mission.states}
+    assert [b.name.text for b in result.mission.behaviors] == ["reach"]

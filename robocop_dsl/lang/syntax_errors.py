@@ -87,7 +87,9 @@ class Recovery:
                 return True
             self._unexpected(parser, token)
             self._skip_line = token.line
-        if token.type in _SYNC:
+        if token.type == "LBRACE":
+            self._skip_block(parser, token)
+        elif token.type in _SYNC:
             self._resync(parser, token)
         return True
 
@@ -196,15 +198,27 @@ class Recovery:
                     reported = True
                 _pop(parser, 1)
 
+    def _skip_block(self, parser, token: Token) -> None:
+        """The ``{`` of a statement that did not parse: its block is skipped whole, to
+        its matching ``}``, with the unfinished statement. Its contents would otherwise
+        be read as statements of the block around it, each an error. A block never
+        closed is left to the closing of blocks at the end or by layout."""
+        lexer = parser.lexer_thread.state
+        text, at = lexer.text.text, lexer.line_ctr.char_pos
+        end = _matching_brace(text, token.end_pos)
+        if end is None or end < at:
+            return
+        lexer.line_ctr.feed(text[at:end])
+        self._resync(parser, Token.new_borrow_pos("_NL", "", token))
+        self._skip_line = token.line + text.count("\n", token.end_pos, end)
+
     def _resync(self, parser, token: Token) -> None:
         """Pop the unfinished statement so that ``token`` (a newline or '}') fits.
 
         Parsed statements are never popped; when the token fits nowhere above them it
         is dropped, and a newline still ends the unfinished statement.
         """
-        stack = parser.parser_state.value_stack
-        unfinished = next((depth for depth in range(len(stack))
-                           if _is_parsed_statement(stack[-1 - depth])), len(stack))
+        unfinished = _unfinished(parser)
         for depth in range(unfinished + 1):
             trial = _trial(parser)
             _pop(trial, depth)
@@ -288,6 +302,38 @@ def _is_parsed_statement(value) -> bool:
         return False
     return data in _COMPLETE or any(getattr(c, "data", None) in _COMPLETE
                                     for c in value.children)
+
+
+def _unfinished(parser) -> int:
+    """How many values of the parser's stack the statement it is in holds (above the
+    last statement that parsed)."""
+    stack = parser.parser_state.value_stack
+    return next((depth for depth in range(len(stack))
+                 if _is_parsed_statement(stack[-1 - depth])), len(stack))
+
+
+def _matching_brace(text: str, start: int) -> int | None:
+    """The index just past the ``}`` that closes a ``{`` ending at ``start`` in
+    ``text`` (braces in strings and comments do not count), or ``None``."""
+    depth, index, length = 1, start, len(text)
+    while index < length:
+        char = text[index]
+        if char == "#":
+            index = text.find("\n", index)
+            if index < 0:
+                return None
+        elif char == '"':
+            index += 1
+            while index < length and text[index] not in '"\n':
+                index += 2 if text[index] == "\\" else 1
+        elif char == "{":
+            depth += 1
+        elif char == "}":
+            depth -= 1
+            if depth == 0:
+                return index + 1
+        index += 1
+    return None
 
 
 def _pop(parser, depth: int) -> None:
