@@ -179,7 +179,7 @@ class CheckContext:
     instances bound, once checked, and ``unused`` the behaviours that no instance exposes (name and machine, checked with
     generic bindings); ``imports_parsed`` is false when an imported file has a syntax
     error, and ``broken`` the statements of each such file that did not parse (by its
-path as shown). ``declared`` holds, by constraint name, the value and numbers [SI] its
+    path as shown). ``declared`` holds, by constraint name, the value and numbers [SI] its
     declaration gives to each parameter that must stay ordered (``min_position``...).
     ``variables`` are the vars the machine being checked sees (name to
     :class:`~.variables.VarInfo`), ``mission_variables`` those the mission declares at

@@ -85,7 +85,6 @@ def vector_separators(source: list[str], start: tuple[int, int], end: tuple[int,
         [source[start[0] - 1][start[1] - 1:]] + source[start[0]:end[0] - 1] \
         + [source[end[0] - 1][:end[1] - 1]]
     separators: list[str] = []
-    broken = False
     for number, row in enumerate(rows):
         code = code_of(row).split("]")[0]
         pieces = (code.split("[", 1)[1] if number == 0 else code).split(",")
@@ -95,14 +94,12 @@ def vector_separators(source: list[str], start: tuple[int, int], end: tuple[int,
             spaces = " " * (len(piece) - len(piece.lstrip()))
             if not separators:
                 separators.append(spaces if number == 0 else ROW_BREAK)
-                broken = broken or number > 0
             elif index == 0:
                 separators.append("," + ROW_BREAK)
-                broken = True
             else:
                 separators.append("," + (spaces or " "))
     plain = separators[:1] == [""] and all(s == ", " for s in separators[1:])
-    return None if plain and not broken else separators
+    return None if plain else separators
 
 
 def with_author_blanks(lines: list[Line], source: list[str]) -> list[Line]:
