@@ -199,3 +199,18 @@ def test_a_block_whose_header_does_not_parse_is_skipped_whole(header, broken):
     assert {"grasp", "move_to_drop", "release", "done", "failed"} <= \
         {s.name.text for s in result.mission.states}
     assert [b.name.text for b in result.mission.behaviors] == ["reach"]
+
+
+def test_a_brace_inside_an_expression_opens_no_block_and_code_after_a_skipped_block_is_read():
+    """A stray '{' with code after it on its line is one error, not a block to skip
+    (which would swallow the task's own '}'); the code after a skipped block's '}' on
+    the same line is read, its errors reported."""
+    stray = parse_mission(PICKUP.replace("proportional(gain = 5)", "proportional(gain = {5)"),
+                          "t.mission")
+    assert [d.headline() for d in stray.diagnostics] == [
+        "t.mission:32:40: error[syntax-error]: unexpected '{'"]
+    text = PICKUP.replace("    state moving {", "    state moving moving {", 1).replace(
+        "        when elapsed > timeout -> late\n    }",
+        "        when elapsed > timeout -> late\n    } final x x", 1)
+    assert [d.headline() for d in parse_mission(text, "t.mission").diagnostics][-1] == \
+        "t.mission:42:15: error[missing-token]: missing ':' before name 'x'"

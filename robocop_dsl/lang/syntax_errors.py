@@ -199,18 +199,24 @@ class Recovery:
                 _pop(parser, 1)
 
     def _skip_block(self, parser, token: Token) -> None:
-        """The ``{`` of a statement that did not parse: its block is skipped whole, to
-        its matching ``}``, with the unfinished statement. Its contents would otherwise
-        be read as statements of the block around it, each an error. A block never
+        """The ``{`` that ends the header of a statement that did not parse: its block
+        is skipped whole, to its matching ``}``, with the unfinished statement. Its
+        contents would otherwise be read as statements of the block around it, each an
+        error. A ``{`` with code after it on its line opens no block; a block never
         closed is left to the closing of blocks at the end or by layout."""
         lexer = parser.lexer_thread.state
         text, at = lexer.text.text, lexer.line_ctr.char_pos
-        end = _matching_brace(text, token.end_pos)
+        line_end = text.find("\n", token.end_pos)
+        rest = text[token.end_pos:line_end if line_end >= 0 else len(text)]
+        end = _matching_brace(text, token.end_pos) if not code_of(rest).strip() else None
         if end is None or end < at:
             return
         lexer.line_ctr.feed(text[at:end])
         self._resync(parser, Token.new_borrow_pos("_NL", "", token))
-        self._skip_line = token.line + text.count("\n", token.end_pos, end)
+        line_end = text.find("\n", end)
+        after = text[end:line_end if line_end >= 0 else len(text)]
+        if not code_of(after).strip():
+            self._skip_line = token.line + text.count("\n", token.end_pos, end)
 
     def _resync(self, parser, token: Token) -> None:
         """Pop the unfinished statement so that ``token`` (a newline or '}') fits.
@@ -325,7 +331,8 @@ def _matching_brace(text: str, start: int) -> int | None:
         elif char == '"':
             index += 1
             while index < length and text[index] not in '"\n':
-                index += 2 if text[index] == "\\" else 1
+                index += 2 if text[index] == "\\" and text[index + 1:index + 2] != "\n" \
+                    else 1
         elif char == "{":
             depth += 1
         elif char == "}":
