@@ -170,20 +170,27 @@ async def test_folding_ranges(client: LanguageClient):
     assert (state, state + 8, None) in ranges
 
 
+async def semantic_tokens(client: LanguageClient, uri: str, lines: list[str]
+                          ) -> list[tuple[int, str, str]]:
+    """The document's semantic tokens, decoded: 0-based line, the word, its type."""
+    tokens = await client.text_document_semantic_tokens_full_async(
+        types.SemanticTokensParams(types.TextDocumentIdentifier(uri)))
+    decoded, line, start = [], 0, 0
+    for index in range(0, len(tokens.data), 5):
+        delta_line, delta_start, length, kind, _ = tokens.data[index:index + 5]
+        line, start = line + delta_line, (start if not delta_line else 0) + delta_start
+        decoded.append((line, lines[line][start:start + length], TOKEN_TYPES[kind]))
+    return decoded
+
+
 @pytest.mark.asyncio
 async def test_one_token_type_per_kind_of_name(client: LanguageClient):
     """A name has the token type of its kind where it is declared and where it is
     used: a final state after '->', a task after 'enable', a behaviour in an instance,
     a body of the world as a subject and in an action."""
-    uri = await opened(client, PICKUP)
-    tokens = await client.text_document_semantic_tokens_full_async(
-        types.SemanticTokensParams(types.TextDocumentIdentifier(uri)))
     by_word: dict[str, set] = {}
-    line = start = 0
-    for index in range(0, len(tokens.data), 5):
-        delta_line, delta_start, length, kind, _ = tokens.data[index:index + 5]
-        line, start = line + delta_line, (start if not delta_line else 0) + delta_start
-        by_word.setdefault(LINES[line][start:start + length], set()).add(TOKEN_TYPES[kind])
+    for _, word, kind in await semantic_tokens(client, await opened(client, PICKUP), LINES):
+        by_word.setdefault(word, set()).add(kind)
     assert by_word["done"] == by_word["there"] == by_word["late"] == {"enumMember"}
     assert by_word["approach"] == by_word["goto_initial_pose"] == {"class"}
     assert by_word["arms"] == {"method"} and by_word["reach"] == {"function"}
@@ -199,16 +206,10 @@ async def test_an_axis_name_has_one_token_type_wherever_it_is_written(client: La
     for every setting (it was a variable in the vector)."""
     path = MISSIONS / "panda_press.mission"
     lines = path.read_text().split("\n")
-    uri = await opened(client, path)
-    tokens = await client.text_document_semantic_tokens_full_async(
-        types.SemanticTokensParams(types.TextDocumentIdentifier(uri)))
     found: dict[int, set] = {}
-    line = start = 0
-    for index in range(0, len(tokens.data), 5):
-        delta_line, delta_start, length, kind, _ = tokens.data[index:index + 5]
-        line, start = line + delta_line, (start if not delta_line else 0) + delta_start
-        if lines[line][start:start + length] == "z":
-            found.setdefault(line, set()).add(TOKEN_TYPES[kind])
+    for line, word, kind in await semantic_tokens(client, await opened(client, path), lines):
+        if word == "z":
+            found.setdefault(line, set()).add(kind)
     written = {number for number, text in enumerate(lines)
                if "[z]" in text or ").z" in text or ".position.z" in text}
     assert set(found) == written and len(written) >= 3
