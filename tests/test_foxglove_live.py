@@ -1,7 +1,8 @@
 """``run --foxglove``: the run live over the Foxglove WebSocket protocol (protocol v1,
 ``foxglove.sdk.v1`` as foxglove-sdk names it, formerly ``foxglove.websocket.v1``). A
-plain WebSocket client sees every topic advertised and gets ``/joint_states`` once
-subscribed; bad or remote addresses and taken ports are refused with a clear error."""
+plain WebSocket client offering either name sees every topic advertised and gets
+``/joint_states`` once subscribed; bad or remote addresses and taken ports are refused
+with a clear error."""
 
 import asyncio
 import json
@@ -19,10 +20,10 @@ from rosbags.typesys import Stores, get_typestore
 
 from conftest import MISSIONS
 from robocop_dsl.cli.main import main
-from robocop_dsl.ecosystem import FoxgloveAddressError, parse_address
+from robocop_dsl.ecosystem import (FoxgloveAddressError, FoxgloveError, FoxgloveServer,
+                                   parse_address)
 
 REPO = Path(__file__).resolve().parent.parent
-SUBPROTOCOLS = ["foxglove.sdk.v1", "foxglove.websocket.v1"]
 TOPICS = {"/robot_description", "/tf_static", "/joint_states", "/tf", "/mission/state",
           "/mission/events", "/rosout", "/mission/targets"}
 
@@ -33,10 +34,11 @@ def free_port() -> int:
         return probe.getsockname()[1]
 
 
-async def watch(url: str, count: int) -> tuple:
-    """Connect, read the advertised channels, subscribe to ``/joint_states``; the
-    negotiated subprotocol, the channels and ``count`` messages' payloads."""
-    async with websockets.connect(url, subprotocols=SUBPROTOCOLS, compression=None) as ws:
+async def watch(url: str, count: int, subprotocol: str) -> tuple:
+    """Connect offering ``subprotocol`` alone, read the advertised channels, subscribe
+    to ``/joint_states``; the negotiated subprotocol, the channels and ``count``
+    messages' payloads."""
+    async with websockets.connect(url, subprotocols=[subprotocol], compression=None) as ws:
         channels: dict = {}
         while "/joint_states" not in channels:
             message = await ws.recv()
@@ -54,6 +56,12 @@ async def watch(url: str, count: int) -> tuple:
         return ws.subprotocol, channels, payloads
 
 
+async def watch_both(url: str, count: int) -> list:
+    """Two clients at once, one offering the protocol's current name, one its former."""
+    return await asyncio.gather(watch(url, count, "foxglove.sdk.v1"),
+                                watch(url, count, "foxglove.websocket.v1"))
+
+
 def test_a_client_sees_the_channels_and_gets_joint_states(bazar):
     port = free_port()
     process = subprocess.Popen(
@@ -63,12 +71,20 @@ def test_a_client_sees_the_channels_and_gets_joint_states(bazar):
     try:
         line = process.stdout.readline()
         assert line.strip() == f"foxglove: ws://127.0.0.1:{port}"
-        protocol, channels, payloads = asyncio.run(watch(f"ws://127.0.0.1:{port}", 5))
+        watched = asyncio.run(watch_both(f"ws://127.0.0.1:{port}", 5))
     finally:
         process.send_signal(signal.SIGINT)
         process.communicate()
     assert process.returncode == 130
-    assert protocol == "foxglove.sdk.v1"
+    assert [protocol for protocol, _, _ in watched] == ["foxglove.sdk.v1",
+                                                        "foxglove.websocket.v1"]
+    for _, channels, payloads in watched:
+        check_joint_states(bazar, channels, payloads)
+
+
+def check_joint_states(bazar, channels: dict, payloads: list) -> None:
+    """Every topic advertised, ``/joint_states`` in CDR with the group's joints, in
+    order of time, each stamped with its message's time."""
     assert TOPICS <= set(channels)
     joint_states = channels["/joint_states"]
     assert (joint_states["encoding"], joint_states["schemaName"],
@@ -81,6 +97,29 @@ def test_a_client_sees_the_channels_and_gets_joint_states(bazar):
         message = typestore.deserialize_cdr(payload, "sensor_msgs/msg/JointState")
         assert list(message.name) == list(group.joints)
         assert message.header.stamp.sec * 10**9 + message.header.stamp.nanosec == time
+
+
+@pytest.mark.parametrize("subprotocols", [["other.v1"], None])
+def test_a_client_offering_no_foxglove_protocol_is_refused(subprotocols):
+    """The server's own refusal (HTTP 400) reaches the client through the address it
+    connected to; a client offering the former name on that address gets in."""
+    server = FoxgloveServer("127.0.0.1", 0, [])
+
+    async def connect(offered):
+        async with websockets.connect(server.url, subprotocols=offered) as ws:
+            return ws.subprotocol
+
+    try:
+        with pytest.raises(websockets.InvalidStatus, match="HTTP 400"):
+            asyncio.run(connect(subprotocols))
+        assert asyncio.run(connect(["foxglove.websocket.v1"])) == "foxglove.websocket.v1"
+    finally:
+        server.close()
+
+
+def test_an_unknown_host_is_a_clear_error():
+    with pytest.raises(FoxgloveError, match="cannot serve Foxglove on nosuchhost.invalid:0"):
+        FoxgloveServer("nosuchhost.invalid", 0, [])
 
 
 @pytest.mark.parametrize("address, allow, message", [
@@ -118,7 +157,7 @@ def test_a_taken_port_is_a_clear_error(capsys, tmp_path):
                      f"127.0.0.1:{port}", "--duration", "0.1", "--log", str(tmp_path / "log")])
     err = capsys.readouterr().err
     assert code == 3 and "Traceback" not in err
-    assert f"cannot serve Foxglove on 127.0.0.1:{port}: Failed to bind port" in err
+    assert f"cannot serve Foxglove on 127.0.0.1:{port}: Address already in use" in err
     assert not (tmp_path / "log").exists()
 
 

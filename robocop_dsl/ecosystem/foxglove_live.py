@@ -12,6 +12,7 @@ import ipaddress
 
 from ..diagnostics import RobocopError
 from .msgdefs import message_definition
+from .subprotocol_relay import SubprotocolRelay
 
 DEFAULT_ADDRESS = "127.0.0.1:8765"
 
@@ -54,7 +55,10 @@ def _loopback(host: str) -> bool:
 
 class FoxgloveServer:
     """A Foxglove WebSocket server with one channel per topic, CDR messages with their
-    ROS 2 definitions (a sink of :class:`~.stream.TopicStream`).
+    ROS 2 definitions (a sink of :class:`~.stream.TopicStream`). foxglove-sdk's server
+    listens on the loopback; clients connect to a
+    :class:`~.subprotocol_relay.SubprotocolRelay` in front of it, which lets in those
+    that name the protocol ``foxglove.websocket.v1`` as well as ``foxglove.sdk.v1``.
 
     Args:
         host: The address to serve on.
@@ -74,14 +78,20 @@ class FoxgloveServer:
 
         self._context = foxglove.Context()
         try:
-            self._server = foxglove.start_server(name=name, host=host, port=port,
+            self._server = foxglove.start_server(name=name, host="127.0.0.1", port=0,
                                                  context=self._context,
                                                  server_listener=self)
         except RuntimeError as error:
             reason = str(error).removeprefix("FoxgloveError: ")
+            raise FoxgloveError(f"cannot serve Foxglove: {reason}") from None
+        try:
+            self._relay = SubprotocolRelay(host, port, ("127.0.0.1", self._server.port))
+        except OSError as error:
+            self._server.stop()
+            reason = error.strerror or str(error)
             raise FoxgloveError(f"cannot serve Foxglove on {host}:{port}: {reason}") from None
         shown = f"[{host}]" if ":" in host else host
-        self.url = f"ws://{shown}:{self._server.port}"
+        self.url = f"ws://{shown}:{self._relay.port}"
         self._channels = {
             topic.name: foxglove.Channel(
                 topic.name, message_encoding="cdr", context=self._context,
@@ -101,6 +111,7 @@ class FoxgloveServer:
         """Nothing to do: messages go out as they are written."""
 
     def close(self) -> None:
+        self._relay.close()
         self._server.stop()
 
     def on_subscribe(self, client, channel) -> None:
