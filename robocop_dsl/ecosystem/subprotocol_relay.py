@@ -22,6 +22,8 @@ _END = b"\r\n\r\n"
 MAX_HEAD = 1 << 16
 """Bytes of an opening request or its answer at most."""
 _CHUNK = 1 << 16
+HANDSHAKE_TIMEOUT = 10.0
+"""Seconds a client has to send its opening request before it is let go."""
 
 
 def offered(head: bytes) -> list[bytes]:
@@ -55,11 +57,13 @@ class SubprotocolRelay:
         self._target = target
         self._sockets: set[socket.socket] = set()
         self._lock = threading.Lock()
+        self._closed = False
         threading.Thread(target=self._accept, name="foxglove relay", daemon=True).start()
 
     def close(self) -> None:
         """Stop listening and end every connection."""
         with self._lock:
+            self._closed = True
             sockets, self._sockets = [self._listener, *self._sockets], set()
         for sock in sockets:
             with contextlib.suppress(OSError):
@@ -77,17 +81,22 @@ class SubprotocolRelay:
 
     def _serve(self, client: socket.socket) -> None:
         """Relay one connection, its opening request renamed when it must be."""
+        if not self._track(client):
+            return
         try:
+            client.settimeout(HANDSHAKE_TIMEOUT)
+            request, rest = _head(client)
+            client.settimeout(None)
             server = socket.create_connection(self._target)
         except OSError:
-            client.close()
+            self._end(client)
             return
-        with self._lock:
-            self._sockets |= {client, server}
+        if not self._track(server):
+            self._end(client)
+            return
         try:
             for sock in (client, server):
                 sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            request, rest = _head(client)
             names = offered(request)
             former = FORMER in names and CURRENT not in names
             server.sendall((renamed(request, CURRENT) if former else request) + _END + rest)
@@ -101,6 +110,16 @@ class SubprotocolRelay:
             self._pump(client, server)
         except OSError:
             self._end(client, server)
+
+    def _track(self, sock: socket.socket) -> bool:
+        """Keep ``sock`` to end it on :meth:`close`; close it at once (and say no) when
+        the relay is closed already."""
+        with self._lock:
+            if not self._closed:
+                self._sockets.add(sock)
+                return True
+        sock.close()
+        return False
 
     def _pump(self, source: socket.socket, sink: socket.socket) -> None:
         """Copy ``source``'s bytes to ``sink`` until either ends, then end both."""
