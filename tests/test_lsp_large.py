@@ -3,6 +3,7 @@ would have it, and a check that the text has outrun stops between passes."""
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -30,8 +31,8 @@ def spans(node, found: list) -> list:
             spans(item, found)
     elif isinstance(node, ast.Node):
         found.append((type(node).__name__, node.span))
-        for value in node.__dict__.values():
-            spans(value, found)
+        for field in dataclasses.fields(node):
+            spans(getattr(node, field.name), found)
     return found
 
 

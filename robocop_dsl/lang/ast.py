@@ -15,14 +15,14 @@ from ..diagnostics import Span
 NO_SPAN = Span(0, 0, 0, 0)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Node:
     """Base of every node: ``span`` locates it in the mission file."""
 
     span: Span = field(default=NO_SPAN, compare=False, repr=False, kw_only=True)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Name(Node):
     """An identifier as written: a task, body, state, unit, parameter..."""
 
@@ -31,7 +31,7 @@ class Name(Node):
 
 # ---- values ------------------------------------------------------------------------
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Quantity(Node):
     """A number with an optional unit (``None``: SI)."""
 
@@ -39,7 +39,7 @@ class Quantity(Node):
     unit: Name | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class NameElement(Node):
     """A name inside a vector: a constant or a behaviour parameter, ``-NAME`` when
     ``negative``."""
@@ -48,7 +48,7 @@ class NameElement(Node):
     negative: bool = False
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Vector(Node):
     """``[a, b, c] unit``: numbers sharing one optional unit; elements may be names
     (:class:`NameElement`) until the checker substitutes their values. The unit
@@ -58,14 +58,14 @@ class Vector(Node):
     unit: Name | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Reference(Node):
     """A bare name used as a value: a body, ``world``, ``current``, ``none``."""
 
     name: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Offset(Node):
     """``BODY offset VECTOR``: a point displaced from a body; the vector may be named
     (a constant or a behaviour parameter, :class:`Reference`) until the checker binds it."""
@@ -74,7 +74,7 @@ class Offset(Node):
     offset: Union[Vector, "Reference"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Argument(Node):
     """One argument of a call: ``name = value`` or a positional ``value``."""
 
@@ -82,7 +82,7 @@ class Argument(Node):
     value: "Value"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Call(Node):
     """``kind(arguments)``: an interpolator, a feedback law or ``pose(...)``."""
 
@@ -90,7 +90,7 @@ class Call(Node):
     arguments: tuple[Argument, ...] = ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class String(Node):
     """A double-quoted string, without its quotes and with escapes resolved."""
 
@@ -100,7 +100,7 @@ class String(Node):
 Value = Union[Quantity, Vector, Reference, Offset, Call, String]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Parameter(Node):
     """``name = value`` inside a task or constraint declaration."""
 
@@ -110,7 +110,7 @@ class Parameter(Node):
 
 # ---- conditions --------------------------------------------------------------------
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Member(Node):
     """``owner.field``: ``arms.reached``, ``left_tool.error``, ``controller.failed``,
     ``pick.arrived`` (a final of a state's machine), ``both.done``, ``pick.visits``;
@@ -121,17 +121,17 @@ class Member(Node):
     region: Name | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Elapsed(Node):
     """Time spent in the current state [s]."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Time(Node):
     """Time since the mission started [s]."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Distance(Node):
     """``distance(A, B)``: distance between the origins of two bodies [m]."""
 
@@ -139,7 +139,7 @@ class Distance(Node):
     second: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Clearance(Distance):
     """``clearance(A, B)``: distance between the collision geometries of two sets (a
     body, or a joint group for every body its joints move) [m]."""
@@ -148,7 +148,7 @@ class Clearance(Distance):
 Measure = Union[Member, Elapsed, Time, Distance, Clearance, "Wrench", "Variable"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Wrench(Node):
     """``force(BODY)`` or ``torque(BODY)`` [N, N m], the norm or, with ``axis``, one
     world component, of what the body exerts on the environment (its force sensor)."""
@@ -158,14 +158,14 @@ class Wrench(Node):
     axis: Name | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Variable(Node):
     """A bare name read as a value: a ``var`` (or, in an expression, a constant)."""
 
     name: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Contact(Node):
     """``contact(A, B)``: whether the physics has a contact between two bodies or sets."""
 
@@ -173,7 +173,7 @@ class Contact(Node):
     second: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Binary(Node):
     """``LEFT OP RIGHT`` with ``OP`` one of ``+ - * /``."""
 
@@ -182,7 +182,7 @@ class Binary(Node):
     right: "Expression"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Negative(Node):
     """``-OPERAND``."""
 
@@ -193,7 +193,7 @@ Expression = Union[Quantity, "Variable", "Member", "Wrench", "Distance", "Elapse
                    Binary, Negative]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Comparison(Node):
     """``measure OP quantity`` with OP one of ``< <= > >=``; the quantity may be a name
     (a constant or a behaviour parameter, :class:`Reference`) until the checker binds it."""
@@ -203,24 +203,24 @@ class Comparison(Node):
     quantity: Quantity | Reference
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class EventCondition(Node):
     """``event NAME``: true in the cycle after the event was emitted."""
 
     event: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Not(Node):
     operand: "Condition"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class And(Node):
     operands: tuple["Condition", ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Or(Node):
     operands: tuple["Condition", ...]
 
@@ -230,24 +230,24 @@ Condition = Union[Member, Comparison, EventCondition, Contact, Not, And, Or]
 
 # ---- actions -----------------------------------------------------------------------
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Enable(Node):
     names: tuple[Name, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Disable(Node):
     names: tuple[Name, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Reset(Node):
     """Restart the interpolators of tasks from the current state."""
 
     names: tuple[Name, ...]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Assign(Node):
     """``owner.field = value``: set a task's target, gain, weight..."""
 
@@ -256,7 +256,7 @@ class Assign(Node):
     value: Value
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class SetVar(Node):
     """``NAME = EXPRESSION``: a new value for a ``var``."""
 
@@ -264,7 +264,7 @@ class SetVar(Node):
     value: Expression
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Attach(Node):
     """``attach BODY to PARENT``: the body moves rigidly with the parent from now on."""
 
@@ -272,17 +272,17 @@ class Attach(Node):
     parent: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Detach(Node):
     body: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Emit(Node):
     event: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Log(Node):
     text: str
 
@@ -292,25 +292,25 @@ Action = Union[Enable, Disable, Reset, Assign, SetVar, Attach, Detach, Emit, Log
 
 # ---- declarations ------------------------------------------------------------------
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class MissionHeader(Node):
     name: Name
     description: str | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class WorldDecl(Node):
     """``world "FILE"``: the world file, relative to the mission, then the robots path."""
 
     path: String
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class ControllerDecl(Node):
     name: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class TaskDecl(Node):
     """``task NAME: TYPE(ARGS) { PARAMETERS }``."""
 
@@ -320,7 +320,7 @@ class TaskDecl(Node):
     parameters: tuple[Parameter, ...] = ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class ConstraintDecl(Node):
     """``constraint NAME: TYPE(ARGS) { PARAMETERS }``."""
 
@@ -330,7 +330,7 @@ class ConstraintDecl(Node):
     parameters: tuple[Parameter, ...] = ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class EventDecl(Node):
     """``event NAME "description"``: an event raised from outside the mission (an
     operator, ``runner.emit(NAME)`` from Python)."""
@@ -339,12 +339,12 @@ class EventDecl(Node):
     description: str | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class StartDecl(Node):
     state: Name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class ActionBlock(Node):
     """``enter``, ``during`` or ``exit`` followed by its actions."""
 
@@ -352,7 +352,7 @@ class ActionBlock(Node):
     actions: tuple[Action, ...] = ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Transition(Node):
     """``when CONDITION -> STATE [{ ACTIONS }]``, inside a state or at the top level of
     a machine (a guard); ``actions`` run after the source's ``exit`` blocks and before
@@ -366,7 +366,7 @@ class Transition(Node):
 StatePart = Union[ActionBlock, Transition]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Instance(Node):
     """``NAME(ARGUMENTS)`` after ``state S:`` or ``region R:``: a behaviour instance."""
 
@@ -374,7 +374,7 @@ class Instance(Node):
     arguments: tuple[Argument, ...] = ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class VarDecl(Node):
     """``var NAME: KIND [= EXPRESSION]``: a value that changes at run time, of a kind
     (``count``, ``scalar``, ``position`` or a dimension such as ``length``); one per
@@ -385,7 +385,7 @@ class VarDecl(Node):
     value: Expression | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Machine(Node):
     """A state machine's body: states and finals, an optional ``start`` and its own
     top-level ``when`` clauses (guards, checked after the active state's own), in
@@ -410,7 +410,7 @@ class Machine(Node):
         return next((i for i in self.items if isinstance(i, StartDecl)), None)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Region(Node):
     """A machine inside a state. A parallel state's ``region NAME { ... }`` (``machine``)
     or ``region NAME: BEHAVIOR(ARGS)`` (``instance``), or, with ``name`` ``None``, the
@@ -422,7 +422,7 @@ class Region(Node):
     instance: Instance | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class StateDecl(Node):
     """``state NAME { ... }`` or ``final NAME[: OUTCOME] [{ ... }]``.
 
@@ -453,7 +453,7 @@ class StateDecl(Node):
         return next((b for b in self.blocks if b.kind == kind), None)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class LibraryHeader(Node):
     """``library NAME "description"``: a file of declarations meant to be imported."""
 
@@ -461,7 +461,7 @@ class LibraryHeader(Node):
     description: str | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Import(Node):
     """``import "FILE"``: declarations of another file, beside this one, then the robots
     path."""
@@ -469,7 +469,7 @@ class Import(Node):
     path: String
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Let(Node):
     """``let NAME = VALUE``: a named constant."""
 
@@ -477,7 +477,7 @@ class Let(Node):
     value: Value
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class BehaviorParam(Node):
     """``NAME: KIND [= DEFAULT]`` in a behaviour's parameter list; ``kind`` is ``task``,
     ``constraint``, ``body``, ``joint_group``, ``event``, ``target`` or a dimension
@@ -488,7 +488,7 @@ class BehaviorParam(Node):
     default: Value | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class BehaviorDecl(Node):
     """``behavior NAME(PARAMETERS) { MACHINE }``: a reusable sub-machine whose finals are
     its outcomes."""
@@ -503,7 +503,7 @@ Item = Union[MissionHeader, LibraryHeader, Import, Let, BehaviorDecl, WorldDecl,
              Transition, VarDecl]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Mission(Node):
     """A whole mission file: its items in source order."""
 

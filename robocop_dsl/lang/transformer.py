@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import sys
 
 from lark import Token, Tree
@@ -12,8 +13,17 @@ from . import ast
 from .ast import NO_SPAN
 
 
+@functools.lru_cache(maxsize=1 << 12)
+def _shared(number: int) -> int:
+    """``number``, one object for each value met lately: the spans of a large mission
+    repeat their line numbers, each an object of its own until shared (a sixth of the
+    tree's memory)."""
+    return number
+
+
 def token_span(token: Token) -> Span:
-    return Span(token.line, token.column, token.end_line, token.end_column)
+    return Span(_shared(token.line), _shared(token.column), _shared(token.end_line),
+                _shared(token.end_column))
 
 
 def _code_end(line: str) -> int:
@@ -44,7 +54,8 @@ def trimmed_span(text: str, meta) -> Span:
         end = line_start - 1
     end_line = meta.line + text.count("\n", meta.start_pos, end)
     end_column = end - (text.rfind("\n", 0, end) + 1) + 1
-    return Span(meta.line, meta.column, end_line, end_column)
+    return Span(_shared(meta.line), _shared(meta.column), _shared(end_line),
+                _shared(end_column))
 
 
 def _name(token: Token) -> ast.Name:
