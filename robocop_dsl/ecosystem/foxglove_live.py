@@ -84,13 +84,13 @@ class FoxgloveServer:
         except RuntimeError as error:
             reason = str(error).removeprefix("FoxgloveError: ")
             raise FoxgloveError(f"cannot serve Foxglove: {reason}") from None
+        shown = f"[{host}]" if ":" in host else host
         try:
             self._relay = SubprotocolRelay(host, port, ("127.0.0.1", self._server.port))
         except OSError as error:
             self._server.stop()
             reason = error.strerror or str(error)
-            raise FoxgloveError(f"cannot serve Foxglove on {host}:{port}: {reason}") from None
-        shown = f"[{host}]" if ":" in host else host
+            raise FoxgloveError(f"cannot serve Foxglove on {shown}:{port}: {reason}") from None
         self.url = f"ws://{shown}:{self._relay.port}"
         self._channels = {
             topic.name: foxglove.Channel(
@@ -111,8 +111,10 @@ class FoxgloveServer:
         """Nothing to do: messages go out as they are written."""
 
     def close(self) -> None:
-        self._relay.close()
+        """Stop the server (its clients get a closing frame through the relay), then
+        the relay."""
         self._server.stop()
+        self._relay.close()
 
     def on_subscribe(self, client, channel) -> None:
         """Called by the server: send a latched topic's last message."""

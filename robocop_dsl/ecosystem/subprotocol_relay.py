@@ -6,37 +6,59 @@ clients that name the protocol by its former name get in too.
 the second only. The relay passes each connection's bytes to the server unchanged,
 but for the opening request of a client that offers the former name alone: the
 request goes on naming the current one, and the server's answer names the former one
-back. Two threads per connection copy the bytes (the socket calls release the GIL).
+back. One thread serves every connection (an asyncio loop, waiting outside the GIL),
+at most :data:`MAX_CONNECTIONS` at once: a burst of connections costs the run's
+process little.
 """
 
 from __future__ import annotations
 
-import contextlib
+import asyncio
 import socket
 import threading
 
 CURRENT = b"foxglove.sdk.v1"
 FORMER = b"foxglove.websocket.v1"
 _HEADER = b"sec-websocket-protocol:"
-_END = b"\r\n\r\n"
 MAX_HEAD = 1 << 16
 """Bytes of an opening request or its answer at most."""
-_CHUNK = 1 << 16
 HANDSHAKE_TIMEOUT = 10.0
-"""Seconds a client has to send its opening request before it is let go."""
+"""Seconds a client has to send its whole opening request before it is let go."""
+MAX_CONNECTIONS = 64
+"""Connections relayed at once at most; the ones above are closed as they come."""
+CLOSING_TIME = 1.0
+"""Seconds the connections have to end on their own when the relay closes (the
+server's closing frames reaching the clients) before they are cut."""
+_CHUNK = 1 << 16
 
 
 def offered(head: bytes) -> list[bytes]:
     """The subprotocols an HTTP head (request or answer) names, in order."""
-    return [name.strip() for line in head.split(b"\r\n")[1:]
+    return [name.strip() for line in head.splitlines()[1:]
             if line.lower().startswith(_HEADER)
             for name in line[len(_HEADER):].split(b",")]
 
 
 def renamed(head: bytes, names: bytes) -> bytes:
-    """``head`` whose subprotocol headers are one naming ``names``."""
-    lines = [line for line in head.split(b"\r\n") if not line.lower().startswith(_HEADER)]
-    return b"\r\n".join([lines[0], b"Sec-WebSocket-Protocol: " + names, *lines[1:]])
+    """``head`` whose subprotocol headers are one naming ``names`` (lines ending as its
+    first line does)."""
+    lines = head.splitlines(keepends=True)
+    end = lines[0][len(lines[0].rstrip(b"\r\n")):] or b"\r\n"
+    kept = [line for line in lines[1:] if not line.lower().startswith(_HEADER)]
+    return b"".join([lines[0], b"Sec-WebSocket-Protocol: " + names + end, *kept])
+
+
+def listening_socket(host: str, port: int) -> socket.socket:
+    """A socket listening on ``host:port`` (the first address ``host`` resolves to, its
+    IPv6 scope kept; IPv4 clients too on ``::``, as on ``0.0.0.0``).
+
+    Raises:
+        OSError: it cannot listen there (a port taken, an unknown host).
+    """
+    family, _, _, _, address = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0]
+    both = (family == socket.AF_INET6 and address[0] == "::"
+            and socket.has_dualstack_ipv6())
+    return socket.create_server(address, family=family, dualstack_ipv6=both)
 
 
 class SubprotocolRelay:
@@ -51,109 +73,104 @@ class SubprotocolRelay:
     """
 
     def __init__(self, host: str, port: int, target: tuple[str, int]):
-        family, _, _, _, address = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0]
-        self._listener = socket.create_server(address[:2], family=family)
-        self.port = self._listener.getsockname()[1]
+        listener = listening_socket(host, port)
+        self.port = listener.getsockname()[1]
         self._target = target
-        self._sockets: set[socket.socket] = set()
-        self._lock = threading.Lock()
-        self._closed = False
-        threading.Thread(target=self._accept, name="foxglove relay", daemon=True).start()
+        self._connections: set[asyncio.Task] = set()
+        self._loop = asyncio.new_event_loop()
+        self._loop.set_exception_handler(lambda loop, context: None)
+        self._server = self._loop.run_until_complete(
+            asyncio.start_server(self._serve, sock=listener, limit=MAX_HEAD))
+        self._thread = threading.Thread(target=self._loop.run_forever,
+                                        name="foxglove relay", daemon=True)
+        self._thread.start()
 
     def close(self) -> None:
-        """Stop listening and end every connection."""
-        with self._lock:
-            self._closed = True
-            sockets, self._sockets = [self._listener, *self._sockets], set()
-        for sock in sockets:
-            with contextlib.suppress(OSError):
-                sock.shutdown(socket.SHUT_RDWR)
-            sock.close()
-
-    def _accept(self) -> None:
-        while True:
-            try:
-                client, _ = self._listener.accept()
-            except OSError:                 # closed
-                return
-            threading.Thread(target=self._serve, args=(client,), daemon=True,
-                             name="foxglove relay client").start()
-
-    def _serve(self, client: socket.socket) -> None:
-        """Relay one connection, its opening request renamed when it must be."""
-        if not self._track(client):
+        """Stop listening; give the connections :data:`CLOSING_TIME` to end, then cut
+        them."""
+        if self._loop.is_closed():
             return
-        try:
-            client.settimeout(HANDSHAKE_TIMEOUT)
-            request, rest = _head(client)
-            client.settimeout(None)
-            server = socket.create_connection(self._target)
-        except OSError:
-            self._end(client)
-            return
-        if not self._track(server):
-            self._end(client)
-            return
-        try:
-            for sock in (client, server):
-                sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            names = offered(request)
-            former = FORMER in names and CURRENT not in names
-            server.sendall((renamed(request, CURRENT) if former else request) + _END + rest)
-            if former:
-                answer, rest = _head(server)
-                if CURRENT in offered(answer):
-                    answer = renamed(answer, FORMER)
-                client.sendall(answer + _END + rest)
-            threading.Thread(target=self._pump, args=(server, client), daemon=True,
-                             name="foxglove relay answer").start()
-            self._pump(client, server)
-        except OSError:
-            self._end(client, server)
+        asyncio.run_coroutine_threadsafe(self._close(), self._loop).result()
+        self._loop.call_soon_threadsafe(self._loop.stop)
+        self._thread.join()
+        self._loop.close()
 
-    def _track(self, sock: socket.socket) -> bool:
-        """Keep ``sock`` to end it on :meth:`close`; close it at once (and say no) when
-        the relay is closed already."""
-        with self._lock:
-            if not self._closed:
-                self._sockets.add(sock)
-                return True
-        sock.close()
-        return False
+    async def _close(self) -> None:
+        self._server.close()
+        if self._connections:
+            _, late = await asyncio.wait(self._connections, timeout=CLOSING_TIME)
+            for task in late:
+                task.cancel()
+            await asyncio.gather(*late, return_exceptions=True)
 
-    def _pump(self, source: socket.socket, sink: socket.socket) -> None:
-        """Copy ``source``'s bytes to ``sink`` until either ends, then end both."""
+    async def _serve(self, reader: asyncio.StreamReader,
+                     writer: asyncio.StreamWriter) -> None:
+        """Relay one connection, unless :data:`MAX_CONNECTIONS` are relayed already."""
+        if len(self._connections) >= MAX_CONNECTIONS:
+            writer.transport.abort()
+            return
+        task = asyncio.current_task()
+        self._connections.add(task)
         try:
-            while True:
-                data = source.recv(_CHUNK)
-                if not data:
-                    break
-                sink.sendall(data)
-        except OSError:
+            await self._relay(reader, writer)
+        except (OSError, EOFError, ValueError, asyncio.TimeoutError):
             pass
-        self._end(source, sink)
+        finally:
+            self._connections.discard(task)
+            _end(writer)
 
-    def _end(self, *sockets: socket.socket) -> None:
-        with self._lock:
-            self._sockets -= set(sockets)
-        for sock in sockets:
-            with contextlib.suppress(OSError):
-                sock.shutdown(socket.SHUT_RDWR)
-            sock.close()
+    async def _relay(self, reader: asyncio.StreamReader,
+                     writer: asyncio.StreamWriter) -> None:
+        """The opening request, renamed when it must be, then the bytes both ways."""
+        request = await asyncio.wait_for(_head(reader), HANDSHAKE_TIMEOUT)
+        names = offered(request)
+        former = FORMER in names and CURRENT not in names
+        server_reader, server_writer = await asyncio.open_connection(*self._target,
+                                                                     limit=MAX_HEAD)
+        try:
+            server_writer.write(renamed(request, CURRENT) if former else request)
+            if former:
+                answer = await asyncio.wait_for(_head(server_reader), HANDSHAKE_TIMEOUT)
+                writer.write(renamed(answer, FORMER) if CURRENT in offered(answer)
+                             else answer)
+            await asyncio.gather(_pump(reader, server_writer), _pump(server_reader, writer))
+        finally:
+            _end(server_writer)
 
 
-def _head(sock: socket.socket) -> tuple[bytes, bytes]:
-    """The HTTP head read from ``sock`` (without its blank line) and the bytes read
-    after it.
+async def _head(reader: asyncio.StreamReader) -> bytes:
+    """An HTTP head read from ``reader``, its blank line included (lines may end with
+    CRLF or LF alone).
 
     Raises:
-        OSError: the peer closed first, or the head is longer than :data:`MAX_HEAD`.
+        EOFError: the peer closed first.
+        ValueError: the head is longer than :data:`MAX_HEAD`.
     """
-    data = b""
-    while _END not in data:
-        chunk = sock.recv(_CHUNK)
-        if not chunk or len(data) > MAX_HEAD:
-            raise ConnectionError("no complete HTTP head")
-        data += chunk
-    head, _, rest = data.partition(_END)
-    return head, rest
+    head = b""
+    while True:
+        line = await reader.readline()
+        if not line.endswith(b"\n"):
+            raise EOFError("no complete HTTP head")
+        head += line
+        if len(head) > MAX_HEAD:
+            raise ValueError("HTTP head too long")
+        if line in (b"\r\n", b"\n"):
+            return head
+
+
+async def _pump(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+    """Pass ``reader``'s bytes to ``writer`` until the end, then close ``writer``."""
+    while data := await reader.read(_CHUNK):
+        writer.write(data)
+        await writer.drain()
+    writer.close()
+
+
+def _end(writer: asyncio.StreamWriter) -> None:
+    """Close a connection: at once when bytes still wait to go (a peer that does not
+    read, or one that went away)."""
+    transport = writer.transport
+    if transport.get_write_buffer_size():
+        transport.abort()
+    else:
+        transport.close()
