@@ -1,10 +1,12 @@
 """The relay in front of foxglove-sdk's server: the opening request of a client that
 names the protocol ``foxglove.websocket.v1`` alone is renamed, any other passes as it
-is; clients that send no complete request, or one too long, are let go; closing the
-relay ends the connections it carries."""
+is (lines may end with LF alone); clients that send no complete request in time, or
+one too long, are let go, and connections above the cap are closed as they come;
+``[::]`` lets IPv4 clients in; closing the relay ends the connections it carries."""
 
 import contextlib
 import socket
+import time
 
 import pytest
 
@@ -38,10 +40,13 @@ def connected(server) -> socket.socket:
 
 
 def answer(sock: socket.socket) -> bytes:
-    """What the peer sends until its head ends, or until it closes."""
+    """What the peer sends until its head ends, or until it closes (or resets)."""
     data = b""
     while b"\r\n\r\n" not in data:
-        chunk = sock.recv(4096)
+        try:
+            chunk = sock.recv(4096)
+        except ConnectionResetError:
+            break
         if not chunk:
             break
         data += chunk
@@ -65,11 +70,7 @@ def test_a_request_too_long_is_let_go(server):
     with connected(server) as sock:
         with contextlib.suppress(OSError):      # the relay may end it while it is sent
             sock.sendall(REQUEST + b"X-Padding: " + b"x" * (2 * MAX_HEAD) + b"\r\n")
-        try:
-            got = answer(sock)
-        except ConnectionResetError:
-            got = b""
-    assert got == b""
+        assert answer(sock) == b""
 
 
 def test_a_silent_client_is_let_go(server, monkeypatch):
@@ -77,6 +78,65 @@ def test_a_silent_client_is_let_go(server, monkeypatch):
     with connected(server) as sock:
         sock.sendall(REQUEST)                    # never the blank line
         assert answer(sock) == b""
+
+
+def test_a_request_trickling_in_is_let_go_after_the_time_for_the_whole(server, monkeypatch):
+    """The time is for the whole request: a line every 0.1 s does not extend it."""
+    monkeypatch.setattr(subprotocol_relay, "HANDSHAKE_TIMEOUT", 0.5)
+    with connected(server) as sock:
+        sock.sendall(REQUEST)
+        sock.settimeout(0.1)
+        for _ in range(200):                     # 20 s of lines, 40 times the time
+            try:
+                sock.sendall(b"X-Slow: 1\r\n")
+                if sock.recv(1) == b"":
+                    return
+            except TimeoutError:
+                continue
+            except OSError:                      # reset
+                return
+        pytest.fail("a request sent line by line was never let go")
+
+
+def test_lines_ending_with_lf_alone(server):
+    request = REQUEST.replace(b"\r\n", b"\n")
+    with connected(server) as sock:
+        sock.sendall(request + b"Sec-WebSocket-Protocol: foxglove.websocket.v1\n\n")
+        head = answer(sock)
+    assert head.startswith(b"HTTP/1.1 101")
+    assert offered(head.partition(b"\r\n\r\n")[0]) == [b"foxglove.websocket.v1"]
+
+
+def test_connections_above_the_cap_are_closed(server, monkeypatch):
+    monkeypatch.setattr(subprotocol_relay, "MAX_CONNECTIONS", 3)
+    idle = [connected(server) for _ in range(3)]
+    try:
+        with connected(server) as extra:
+            assert answer(extra) == b""
+        idle.pop().close()
+        for _ in range(600):                     # once the relay saw the place free
+            with connected(server) as sock:
+                sock.sendall(REQUEST + b"Sec-WebSocket-Protocol: foxglove.sdk.v1\r\n\r\n")
+                if answer(sock).startswith(b"HTTP/1.1 101"):
+                    return
+            time.sleep(0.05)
+        pytest.fail("the place a closed connection left was never taken again")
+    finally:
+        for sock in idle:
+            sock.close()
+
+
+@pytest.mark.skipif(not socket.has_dualstack_ipv6(), reason="no dual-stack IPv6 here")
+def test_the_ipv6_any_address_lets_ipv4_clients_in():
+    server = FoxgloveServer("::", 0, [])
+    port = int(server.url.rsplit(":", 1)[1])
+    try:
+        for host in ("::1", "127.0.0.1"):
+            with socket.create_connection((host, port), timeout=30) as sock:
+                sock.sendall(REQUEST + b"Sec-WebSocket-Protocol: foxglove.sdk.v1\r\n\r\n")
+                assert answer(sock).startswith(b"HTTP/1.1 101")
+    finally:
+        server.close()
 
 
 def test_closing_ends_the_connections():
