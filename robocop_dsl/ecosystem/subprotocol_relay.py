@@ -14,6 +14,8 @@ process little.
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
+import contextlib
 import socket
 import threading
 
@@ -90,7 +92,9 @@ class SubprotocolRelay:
         them."""
         if self._loop.is_closed():
             return
-        asyncio.run_coroutine_threadsafe(self._close(), self._loop).result()
+        closing = asyncio.run_coroutine_threadsafe(self._close(), self._loop)
+        with contextlib.suppress(concurrent.futures.TimeoutError):
+            closing.result(timeout=CLOSING_TIME + 1.0)
         self._loop.call_soon_threadsafe(self._loop.stop)
         self._thread.join()
         self._loop.close()
