@@ -148,3 +148,18 @@ def test_closing_ends_the_connections():
     while sock.recv(4096):                       # the server's greeting, then the end
         pass
     sock.close()
+
+
+def test_empty_lines_before_the_request_neither_end_it_nor_extend_its_time(server,
+                                                                           monkeypatch):
+    """HTTP lets a client send empty lines before its request: they are skipped, the
+    request is still renamed, and its time counts from the connection."""
+    with connected(server) as sock:
+        sock.sendall(b"\r\n\r\n" + REQUEST +
+                     b"Sec-WebSocket-Protocol: foxglove.websocket.v1\r\n\r\n")
+        head = answer(sock)
+    assert offered(head.partition(b"\r\n\r\n")[0]) == [b"foxglove.websocket.v1"]
+    monkeypatch.setattr(subprotocol_relay, "HANDSHAKE_TIMEOUT", 0.2)
+    with connected(server) as sock:
+        sock.sendall(b"\r\n" + REQUEST)          # then nothing
+        assert answer(sock) == b""

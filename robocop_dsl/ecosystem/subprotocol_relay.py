@@ -144,22 +144,25 @@ class SubprotocolRelay:
 
 async def _head(reader: asyncio.StreamReader) -> bytes:
     """An HTTP head read from ``reader``, its blank line included (lines may end with
-    CRLF or LF alone).
+    CRLF or LF alone; empty lines before it are read and left out, as HTTP allows).
 
     Raises:
         EOFError: the peer closed first.
-        ValueError: the head is longer than :data:`MAX_HEAD`.
+        ValueError: more than :data:`MAX_HEAD` bytes were read.
     """
-    head = b""
+    head, read = b"", 0
     while True:
         line = await reader.readline()
         if not line.endswith(b"\n"):
             raise EOFError("no complete HTTP head")
-        head += line
-        if len(head) > MAX_HEAD:
+        read += len(line)
+        if read > MAX_HEAD:
             raise ValueError("HTTP head too long")
-        if line in (b"\r\n", b"\n"):
-            return head
+        blank = line in (b"\r\n", b"\n")
+        if blank and head:
+            return head + line
+        if not blank:
+            head += line
 
 
 async def _pump(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
