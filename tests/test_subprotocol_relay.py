@@ -107,22 +107,47 @@ def test_lines_ending_with_lf_alone(server):
     assert offered(head.partition(b"\r\n\r\n")[0]) == [b"foxglove.websocket.v1"]
 
 
-def test_connections_above_the_cap_are_closed(server, monkeypatch):
-    monkeypatch.setattr(subprotocol_relay, "MAX_CONNECTIONS", 3)
-    idle = [connected(server) for _ in range(3)]
+def opened(server, subprotocol: bytes = b"foxglove.sdk.v1") -> tuple:
+    """A connection through the relay and the head of the answer to its request."""
+    sock = connected(server)
+    sock.sendall(REQUEST + b"Sec-WebSocket-Protocol: " + subprotocol + b"\r\n\r\n")
+    return sock, answer(sock)
+
+
+def test_a_client_above_the_cap_is_told_so(server, monkeypatch):
+    monkeypatch.setattr(subprotocol_relay, "MAX_CONNECTIONS", 2)
+    clients = [opened(server)[0] for _ in range(2)]
     try:
-        with connected(server) as extra:
-            assert answer(extra) == b""
-        idle.pop().close()
+        extra, head = opened(server)
+        while chunk := extra.recv(4096):          # the body, until the relay closes
+            head += chunk
+        extra.close()
+        assert head.startswith(b"HTTP/1.1 503")
+        assert head.endswith(b"\r\n\r\n2 Foxglove clients are connected already\n")
+        clients.pop().close()
         for _ in range(600):                     # once the relay saw the place free
-            with connected(server) as sock:
-                sock.sendall(REQUEST + b"Sec-WebSocket-Protocol: foxglove.sdk.v1\r\n\r\n")
-                if answer(sock).startswith(b"HTTP/1.1 101"):
-                    return
+            sock, head = opened(server)
+            sock.close()
+            if head.startswith(b"HTTP/1.1 101"):
+                return
             time.sleep(0.05)
         pytest.fail("the place a closed connection left was never taken again")
     finally:
-        for sock in idle:
+        for sock in clients:
+            sock.close()
+
+
+def test_silent_connections_do_not_lock_a_client_out(server, monkeypatch):
+    """Above the connections still sending their request, the oldest is let go."""
+    monkeypatch.setattr(subprotocol_relay, "MAX_WAITING", 3)
+    silent = [connected(server) for _ in range(5)]
+    try:
+        sock, head = opened(server, b"foxglove.websocket.v1")
+        sock.close()
+        assert head.startswith(b"HTTP/1.1 101")
+        assert answer(silent[0]) == b""          # the oldest, let go
+    finally:
+        for sock in silent:
             sock.close()
 
 

@@ -7,8 +7,8 @@ the second only. The relay passes each connection's bytes to the server unchange
 but for the opening request of a client that offers the former name alone: the
 request goes on naming the current one, and the server's answer names the former one
 back. One thread serves every connection (an asyncio loop, waiting outside the GIL),
-at most :data:`MAX_CONNECTIONS` at once: a burst of connections costs the run's
-process little.
+at most :data:`MAX_CONNECTIONS` at once and :data:`MAX_WAITING` still sending their
+request: a burst of connections costs the run's process little.
 """
 
 from __future__ import annotations
@@ -27,7 +27,11 @@ MAX_HEAD = 1 << 16
 HANDSHAKE_TIMEOUT = 10.0
 """Seconds a client has to send its whole opening request before it is let go."""
 MAX_CONNECTIONS = 64
-"""Connections relayed at once at most; the ones above are closed as they come."""
+"""Connections relayed at once at most; a client above them gets an HTTP 503."""
+MAX_WAITING = 16
+"""Connections whose opening request is still coming at most; a new one lets the
+oldest go (a flood of silent connections does not lock out a client whose request
+comes at once)."""
 CLOSING_TIME = 1.0
 """Seconds the connections have to end on their own when the relay closes (the
 server's closing frames reaching the clients) before they are cut."""
@@ -78,7 +82,9 @@ class SubprotocolRelay:
         listener = listening_socket(host, port)
         self.port = listener.getsockname()[1]
         self._target = target
-        self._connections: set[asyncio.Task] = set()
+        self._waiting: dict[asyncio.Task, None] = {}
+        """The connections whose opening request is still coming, oldest first."""
+        self._relayed: set[asyncio.Task] = set()
         self._loop = asyncio.new_event_loop()
         self._loop.set_exception_handler(lambda loop, context: None)
         self._server = self._loop.run_until_complete(
@@ -88,8 +94,8 @@ class SubprotocolRelay:
         self._thread.start()
 
     def close(self) -> None:
-        """Stop listening; give the connections :data:`CLOSING_TIME` to end, then cut
-        them."""
+        """Stop listening, let go the clients still sending their opening request, give
+        the others :data:`CLOSING_TIME` to end, then cut them."""
         if self._loop.is_closed():
             return
         closing = asyncio.run_coroutine_threadsafe(self._close(), self._loop)
@@ -101,32 +107,44 @@ class SubprotocolRelay:
 
     async def _close(self) -> None:
         self._server.close()
-        if self._connections:
-            _, late = await asyncio.wait(self._connections, timeout=CLOSING_TIME)
+        waiting = list(self._waiting)
+        for task in waiting:
+            task.cancel()
+        late = set()
+        if self._relayed:
+            _, late = await asyncio.wait(self._relayed, timeout=CLOSING_TIME)
             for task in late:
                 task.cancel()
-            await asyncio.gather(*late, return_exceptions=True)
+        await asyncio.gather(*waiting, *late, return_exceptions=True)
 
     async def _serve(self, reader: asyncio.StreamReader,
                      writer: asyncio.StreamWriter) -> None:
-        """Relay one connection, unless :data:`MAX_CONNECTIONS` are relayed already."""
-        if len(self._connections) >= MAX_CONNECTIONS:
-            writer.transport.abort()
-            return
+        """Relay one connection: its opening request awaited among at most
+        :data:`MAX_WAITING` (the oldest let go for a new one), then relayed among at
+        most :data:`MAX_CONNECTIONS` (above, an HTTP 503 that says so)."""
         task = asyncio.current_task()
-        self._connections.add(task)
+        if len(self._waiting) >= MAX_WAITING:
+            next(iter(self._waiting)).cancel()
+        self._waiting[task] = None
         try:
-            await self._relay(reader, writer)
+            request = await asyncio.wait_for(_head(reader), HANDSHAKE_TIMEOUT)
+            del self._waiting[task]
+            if len(self._relayed) >= MAX_CONNECTIONS:
+                writer.write(_busy())
+                await writer.drain()
+                return
+            self._relayed.add(task)
+            await self._relay(request, reader, writer)
         except (OSError, EOFError, ValueError, asyncio.TimeoutError):
             pass
         finally:
-            self._connections.discard(task)
+            self._waiting.pop(task, None)
+            self._relayed.discard(task)
             _end(writer)
 
-    async def _relay(self, reader: asyncio.StreamReader,
+    async def _relay(self, request: bytes, reader: asyncio.StreamReader,
                      writer: asyncio.StreamWriter) -> None:
         """The opening request, renamed when it must be, then the bytes both ways."""
-        request = await asyncio.wait_for(_head(reader), HANDSHAKE_TIMEOUT)
         names = offered(request)
         former = FORMER in names and CURRENT not in names
         server_reader, server_writer = await asyncio.open_connection(*self._target,
@@ -140,6 +158,13 @@ class SubprotocolRelay:
             await asyncio.gather(_pump(reader, server_writer), _pump(server_reader, writer))
         finally:
             _end(server_writer)
+
+
+def _busy() -> bytes:
+    """The answer to a client above :data:`MAX_CONNECTIONS`."""
+    text = f"{MAX_CONNECTIONS} Foxglove clients are connected already\n".encode()
+    return (b"HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\n"
+            b"Content-Length: %d\r\nConnection: close\r\n\r\n" % len(text) + text)
 
 
 async def _head(reader: asyncio.StreamReader) -> bytes:
@@ -166,11 +191,15 @@ async def _head(reader: asyncio.StreamReader) -> bytes:
 
 
 async def _pump(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-    """Pass ``reader``'s bytes to ``writer`` until the end, then close ``writer``."""
+    """Pass ``reader``'s bytes to ``writer`` until their end, then end ``writer``'s
+    side (the other direction goes on until its own end)."""
     while data := await reader.read(_CHUNK):
         writer.write(data)
         await writer.drain()
-    writer.close()
+    if writer.can_write_eof():
+        writer.write_eof()
+    else:
+        writer.close()
 
 
 def _end(writer: asyncio.StreamWriter) -> None:
