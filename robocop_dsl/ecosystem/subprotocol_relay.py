@@ -124,7 +124,9 @@ class SubprotocolRelay:
         most :data:`MAX_CONNECTIONS` (above, an HTTP 503 that says so)."""
         task = asyncio.current_task()
         if len(self._waiting) >= MAX_WAITING:
-            next(iter(self._waiting)).cancel()
+            oldest = next(iter(self._waiting))
+            del self._waiting[oldest]
+            oldest.cancel()
         self._waiting[task] = None
         try:
             request = await asyncio.wait_for(_head(reader), HANDSHAKE_TIMEOUT)

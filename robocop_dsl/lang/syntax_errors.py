@@ -206,16 +206,12 @@ class Recovery:
         closed is left to the closing of blocks at the end or by layout."""
         lexer = parser.lexer_thread.state
         text, at = lexer.text.text, lexer.line_ctr.char_pos
-        line_end = text.find("\n", token.end_pos)
-        rest = text[token.end_pos:line_end if line_end >= 0 else len(text)]
-        end = _matching_brace(text, token.end_pos) if not code_of(rest).strip() else None
+        end = None if _code_after(text, token.end_pos) else _matching_brace(text, token.end_pos)
         if end is None or end < at:
             return
         lexer.line_ctr.feed(text[at:end])
         self._resync(parser, Token.new_borrow_pos("_NL", "", token))
-        line_end = text.find("\n", end)
-        after = text[end:line_end if line_end >= 0 else len(text)]
-        if not code_of(after).strip():
+        if not _code_after(text, end):
             self._skip_line = token.line + text.count("\n", token.end_pos, end)
 
     def _resync(self, parser, token: Token) -> None:
@@ -318,28 +314,30 @@ def _unfinished(parser) -> int:
                  if _is_parsed_statement(stack[-1 - depth])), len(stack))
 
 
+def _line_end(text: str, at: int) -> int:
+    """Where the line holding index ``at`` of ``text`` ends (its newline, or the end)."""
+    end = text.find("\n", at)
+    return len(text) if end < 0 else end
+
+
+def _code_after(text: str, at: int) -> bool:
+    """Whether code (not blanks, not a comment) follows index ``at`` on its line."""
+    return bool(code_of(text[at:_line_end(text, at)]).strip())
+
+
 def _matching_brace(text: str, start: int) -> int | None:
     """The index just past the ``}`` that closes a ``{`` ending at ``start`` in
-    ``text`` (braces in strings and comments do not count), or ``None``."""
-    depth, index, length = 1, start, len(text)
-    while index < length:
-        char = text[index]
-        if char == "#":
-            index = text.find("\n", index)
-            if index < 0:
-                return None
-        elif char == '"':
-            index += 1
-            while index < length and text[index] not in '"\n':
-                index += 2 if text[index] == "\\" and text[index + 1:index + 2] != "\n" \
-                    else 1
-        elif char == "{":
-            depth += 1
-        elif char == "}":
-            depth -= 1
-            if depth == 0:
-                return index + 1
-        index += 1
+    ``text`` (braces in strings and comments do not count: :func:`code_of`, line by
+    line, as neither goes on over a line), or ``None``."""
+    depth, at = 1, start
+    while at <= len(text):
+        end = _line_end(text, at)
+        for column, char in enumerate(code_of(text[at:end])):
+            if char in "{}":
+                depth += 1 if char == "{" else -1
+                if depth == 0:
+                    return at + column + 1
+        at = end + 1
     return None
 
 
