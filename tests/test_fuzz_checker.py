@@ -25,7 +25,7 @@ from lark import Lark
 from robocop_dsl.compile import WorldCache, check_file
 from robocop_dsl.diagnostics import MISSION_BREAKS, XML_BREAKS, YAML_BREAKS, SourceFile
 from robocop_dsl.resources import GRAMMAR_DIR, ROBOTS_DIR
-from robocop_dsl.sources import MISSION, URDF, WORLD, kind_of
+from robocop_dsl.sources import MISSION, URDF, WORLD, editor_lines, kind_of
 
 REPO = Path(__file__).resolve().parent.parent
 EXAMPLES = int(os.environ.get("ROBOCOP_FUZZ_EXAMPLES", "100"))
@@ -65,8 +65,9 @@ def _shipped(path: str) -> SourceFile:
 
 def _as_source(path: str) -> SourceFile:
     data = Path(path).read_bytes() if Path(path).is_file() else b""
-    return SourceFile(path, data.decode("utf-8", errors="replace").removeprefix("\ufeff"),
-                      BREAKS[kind_of(path) or MISSION])
+    text = data.decode("utf-8", errors="replace").removeprefix("\ufeff")
+    kind = kind_of(path) or MISSION
+    return SourceFile(path, editor_lines(text) if kind == MISSION else text, BREAKS[kind])
 
 
 def assert_located(result, folder: Path) -> None:
