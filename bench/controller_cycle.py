@@ -35,7 +35,10 @@ move off), with the tools held over the workbench side by side (several pairs wi
 influence, the dampers not binding) and with both tools pressed down on the workbench
 (the dampers binding: the QP needs one more iteration), beside the same cycle without
 it, in turns; the time added, the pairs checked and the mean number within influence
-are printed, and the first cycle with the constraints.
+are printed, and the first cycle with the constraints (the median over
+:data:`FIRST_STARTS` fresh controllers): built and stepped at once (``first us``), and
+prepared first (``prepared``: :meth:`~robocop_dsl.control.Controller.prepare` plans
+the QPs and finds the pairs within influence, as a run does before its first cycle).
 
 With ``--against REVISION``: this controller against the one of a git revision of this
 repository (imported beside it under another name, the two run in turns) on the
@@ -76,6 +79,7 @@ ACCELERATION = 10.0
 MAX_LINEAR, MAX_ANGULAR = 0.5, 1.0
 FIRST_CYCLES = 40
 BLOCK = 50
+FIRST_STARTS = 7
 
 CASES = {
     "Panda": dict(world="panda/panda_on_table.yaml", group="panda_arm", time_step=0.002,
@@ -346,9 +350,12 @@ def add_collisions(control) -> list:
             for index, (first, second) in enumerate(COLLISIONS)]
 
 
-def with_collisions(case, world, q0, goals, avoid, controller_class=Controller):
+def with_collisions(case, world, q0, goals, avoid, controller_class=Controller,
+                    prepared_at=None):
     """The strict problem of ``ours`` with body_pose targets ``goals``, with or without
-    the collision constraints; returns the step and the collision constraints."""
+    the collision constraints, prepared for a first cycle at ``prepared_at`` if given
+    (:meth:`~robocop_dsl.control.Controller.prepare`, as a run does before its first
+    cycle); returns the step and the collision constraints."""
     control = controller(case, world, q0, "strict", controller_class)
     constraints = add_collisions(control) if avoid else []
     control.set_auto_enable(True)
@@ -356,7 +363,23 @@ def with_collisions(case, world, q0, goals, avoid, controller_class=Controller):
         control.add_task("body_pose", body, body, target=goal, gain=GAIN)
     control.add_task("joint_position", "posture", case["group"], priority=1,
                      weight=POSTURE_WEIGHT, gain=GAIN, target=q0[control.state.q_indices])
+    if prepared_at is not None:
+        control.prepare(prepared_at)
     return (lambda q: control.compute(q).velocity), constraints
+
+
+def first_cycle(case, world, q0, q, goals, prepared: bool, starts: int = FIRST_STARTS) -> float:
+    """The median over ``starts`` fresh controllers with the collision constraints of
+    their first cycle's thread CPU time [s] at ``q``, each built untimed (and prepared
+    at ``q`` when ``prepared``)."""
+    times = []
+    for _ in range(starts):
+        step, _ = with_collisions(case, world, q0, goals, True,
+                                  prepared_at=q.copy() if prepared else None)
+        start = time.thread_time_ns()
+        step(q.copy())
+        times.append((time.thread_time_ns() - start) * 1e-9)
+    return float(np.median(times))
 
 
 def settled(case, world, q0, goals, cycles):
@@ -387,27 +410,27 @@ def collision_rows(cycles) -> None:
     world = load_world(case["world"])
     q0, cases = postures(case, world)
     print(f"\n{'BAZAR, strict':<40}{'median us':>10}{'p99 us':>9}{'vs without':>11}"
-          f"{'added us':>9}{'pairs':>7}{'near':>6}{'first us':>10}")
+          f"{'added us':>9}{'pairs':>7}{'near':>6}{'first us':>10}{'prepared':>10}")
     for label, q, goals in cases:
+        first = first_cycle(case, world, q0, q, goals, prepared=False)
+        ready = first_cycle(case, world, q0, q, goals, prepared=True)
         without = with_collisions(case, world, q0, goals, False)[0]
         step, constraints = with_collisions(case, world, q0, goals, True)
-        start = time.thread_time_ns()
-        step(q.copy())
-        first = (time.thread_time_ns() - start) * 1e-9
         near = []
         plain, timed = interleaved((without, step), world, case, q, cycles,
                                    after=lambda index: index and near.append(
                                        sum(c.pairs_near for c in constraints)))
         checked = sum(c.pairs_checked for c in constraints)
         base = float(np.median(plain))
-        for name, times, ratio, pairs, close, once in (
-                (f"{label}, without", plain, 1.0, "", "", ""),
+        for name, times, ratio, pairs, close, once, warm in (
+                (f"{label}, without", plain, 1.0, "", "", "", ""),
                 (f"{label}, with", timed, turn_ratio(timed, plain), checked,
-                 f"{np.mean(near):.1f}", f"{first * 1e6:.0f}")):
+                 f"{np.mean(near):.1f}", f"{first * 1e6:.0f}", f"{ready * 1e6:.0f}")):
             added = np.median(times) - base
             print(f"{name:<40}{np.median(times) * 1e6:>10.1f}"
                   f"{np.percentile(times, 99) * 1e6:>9.1f}"
-                  f"{ratio:>10.2f}x{added * 1e6:>9.1f}{pairs:>7}{close:>6}{once:>10}")
+                  f"{ratio:>10.2f}x{added * 1e6:>9.1f}{pairs:>7}{close:>6}{once:>10}"
+                  f"{warm:>10}")
 
 
 def turn_ratio(numerator, denominator) -> float:

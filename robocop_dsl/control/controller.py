@@ -257,6 +257,17 @@ class Controller:
         state.velocity = (state.previous_command if dq is None
                           else np.asarray(dq, dtype=float)[state.v_indices])
 
+    def prepare(self, q: np.ndarray, dq: np.ndarray | None = None) -> None:
+        """Do ahead what the next :meth:`compute` at ``q`` (nq) and ``dq`` (nv) would do
+        first: plan the enabled tasks and constraints (levels, QP buffers, solvers) and
+        find the collision pairs within influence, so that the cycle itself starts warm
+        (a run prepares before its first cycle). No task, interpolator or command
+        changes; a state :meth:`compute` would refuse is left to it to report."""
+        q = np.asarray(q, dtype=float)
+        if self._check_state(q, dq) is None:
+            self.update_state(q, dq)
+            self._plan()
+
     def compute(self, q: np.ndarray, dq: np.ndarray | None = None) -> ControlResult:
         """One control cycle at configuration ``q`` (nq) and velocity ``dq`` (nv).
 

@@ -170,7 +170,8 @@ class Runner:
             self.kinematics.update(self.q)
             self.variables.start(self)
             self._macro(self.chart.start(self))
-        except Exception as error:  # an enter block of the start states raised
+            self.controller.prepare(self.q)
+        except Exception as error:  # an enter block of the start states, a constraint raised
             self._fault(error)
 
     def step(self) -> bool:
