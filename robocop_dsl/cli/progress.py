@@ -1,6 +1,10 @@
 """Terminal output of ``run``: a live line (rich) with mission time and the active
 configuration, plain transition lines (full state paths) when not a terminal, and the
-end-of-run summary."""
+end-of-run summary.
+
+In a real-time run the lines are printed by a thread of their own while the loop
+sleeps between two cycles (:mod:`~robocop_dsl.runtime.writer_thread`): a slow or
+blocked terminal never holds the loop up, and no line is dropped."""
 
 from __future__ import annotations
 
@@ -13,18 +17,30 @@ from rich.console import Console
 from rich.table import Table
 
 from ..runtime.records import Observer
+from ..runtime.writer_thread import DROP, WAIT, WriterThread
 from ..safety.report import EXCESS_UNITS
 
 REFRESH = 0.1
+BACKLOG = 16
+"""Batches of lines waiting for the printing thread before they are merged into one
+(none is dropped)."""
 
 
 class ProgressDisplay(Observer):
     """Shows mission time and the active configuration; refreshes at most every 0.1 s of
-    wall time."""
+    wall time.
+
+    Args:
+        mission_name: Shown on every status line.
+        stream: Where to write (standard error by default).
+        realtime: The run is in real time: lines are printed by a thread of their own,
+            while the loop sleeps; else at once, in the loop's thread. :meth:`close`
+            prints what is left.
+    """
 
     wants_tasks = False
 
-    def __init__(self, mission_name: str, stream=None):
+    def __init__(self, mission_name: str, stream=None, realtime: bool = False):
         stream = stream or sys.stderr
         self.console = Console(file=stream, width=None if stream.isatty() else 120)
         self.mission_name = mission_name
@@ -32,15 +48,22 @@ class ProgressDisplay(Observer):
         self._status = None
         self._last = 0.0
         self._relaxed: set[str] = set()
+        self._runner = None
+        self._realtime = realtime
+        self._lines = WriterThread("run output", self._print, BACKLOG,
+                                   DROP if realtime else WAIT, keep=list)
 
     def on_start(self, runner) -> None:
+        self._runner = runner
         if self.live:
             self._status = self.console.status(f"{self.mission_name}: starting")
             self._status.start()
-        else:
+        else:       # before the first cycle, so at once (rich's first print is its slowest)
             self.console.print(f"{self.mission_name}: start in {runner.state}", highlight=False)
 
     def on_cycle(self, record) -> None:
+        if self._realtime:
+            self._lines.loop_sleeps(self._runner.next_cycle_at)
         if self._status is None:
             return
         now = time.perf_counter()
@@ -49,29 +72,41 @@ class ProgressDisplay(Observer):
             self._status.update(f"{self.mission_name}: {record.time:8.3f} s  [bold]{record.state}")
 
     def on_event(self, event) -> None:
+        text = self._line(event)
+        if text is not None:
+            self._lines.put([text])
+
+    def _line(self, event) -> str | None:
+        """The line an event prints, or ``None``."""
         if event.kind == "transition":
-            text = (f"{event.time:8.3f} s  {event.data['from']} -> {event.data['to']}"
+            return (f"{event.time:8.3f} s  {event.data['from']} -> {event.data['to']}"
                     f"  ({event.data['condition']})")
-            self.console.print(text, highlight=False)
-        elif event.kind == "event":
-            self.console.print(f"{event.time:8.3f} s  event: {event.data['name']}",
-                               highlight=False)
-        elif event.kind == "constraint_relaxed":
+        if event.kind == "event":
+            return f"{event.time:8.3f} s  event: {event.data['name']}"
+        if event.kind == "constraint_relaxed":
             name = event.data["constraint"]
-            if name not in self._relaxed:
-                self._relaxed.add(name)
-                self.console.print(
-                    f"{event.time:8.3f} s  constraint_relaxed: {name} by "
+            if name in self._relaxed:
+                return None
+            self._relaxed.add(name)
+            return (f"{event.time:8.3f} s  constraint_relaxed: {name} by "
                     f"{event.data['amount']:.4g} {event.data['unit']} (rows "
-                    f"{', '.join(map(str, event.data['rows']))}; later ones in the log)",
-                    highlight=False)
-        elif event.kind in ("fault", "qp_failure", "overrun", "log", "solver_budget"):
+                    f"{', '.join(map(str, event.data['rows']))}; later ones in the log)")
+        if event.kind in ("fault", "qp_failure", "overrun", "log", "solver_budget"):
             if event.kind == "qp_failure" and event.data.get("repeat"):
-                return
-            self.console.print(f"{event.time:8.3f} s  {event.kind}: {event.data.get('message', '')}",
-                               highlight=False)
+                return None
+            return f"{event.time:8.3f} s  {event.kind}: {event.data.get('message', '')}"
+        return None
+
+    def _print(self, lines: list) -> None:
+        """In the printing thread (or the caller's, headless): each line, while the
+        loop sleeps."""
+        for line in lines:
+            self._lines.turn()
+            self.console.print(line, highlight=False)
 
     def close(self) -> None:
+        """Print the lines still waiting, then stop the live status line."""
+        self._lines.close()
         if self._status is not None:
             self._status.stop()
             self._status = None

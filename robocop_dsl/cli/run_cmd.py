@@ -187,7 +187,7 @@ def _run(args, signals, log) -> int:
     for observer in writers + [viewer, recorder]:
         if observer is not None:
             runner.add_observer(observer)
-    display = ProgressDisplay(mission.name)
+    display = ProgressDisplay(mission.name, realtime=realtime)
     runner.add_observer(display)
     signals.attach(runner)
     gc.freeze()     # what was made before the run stays out of the collector's passes
@@ -195,7 +195,7 @@ def _run(args, signals, log) -> int:
         result = runner.run(duration=duration, realtime=realtime)
     finally:
         gc.unfreeze()
-    display.close()
+        display.close()
     print_summary(result, sys.stdout, watch.summary)
     if args.debug and runner.error is not None:
         print(runner.fault_traceback(), file=sys.stderr, end="")
