@@ -135,13 +135,16 @@ def test_bad_file_from_a_real_process():
      "66:45: error[missing-token]: missing ')' before '{'"),
     ("let approach_height = 10 cm", "let approach_height = = 10 cm",
      "8:23: error[syntax-error]: unexpected '='"),
+    ("state goto_initial_pose {", "stat goto_initial_pose {",
+     "49:1: error[syntax-error]: unexpected name 'stat'"),
 ])
 def test_a_statement_that_does_not_parse_gets_its_syntax_error_alone(
         tmp_path, capsys, written, typed, reported):
     """An unclosed '(' or '[' (or any syntax error) is the one error of its statement:
     the checker says nothing about the statement's partial call or vector, nor about
     the uses of a name it declares (without it: a missing argument, a wrong dimension,
-    an unknown body, 'not a number' where the name is used)."""
+    an unknown body, 'not a number' where the name is used; a declaration whose keyword
+    is misspelt declares its name all the same)."""
     pickup = (REPO / "missions" / "pickup.mission").read_text()
     assert written in pickup
     path = tmp_path / "pickup.mission"
@@ -150,6 +153,22 @@ def test_a_statement_that_does_not_parse_gets_its_syntax_error_alone(
     [report] = json.loads(capsys.readouterr().out)
     assert [f"{d['span']['line']}:{d['span']['column']}: {d['severity']}[{d['code']}]: "
             f"{d['message']}" for d in report["diagnostics"]] == [reported]
+
+
+def test_a_misspelt_first_state_is_the_one_error_and_names_the_keyword(tmp_path, capsys):
+    """The first state's keyword misspelt: its block does not parse, so the final state
+    is the first that did; that the mission would start in it follows from the typo and
+    is not reported. The hint names the keyword meant."""
+    path = tmp_path / "typo.mission"
+    path.write_text(f'mission typo "x"\n\nworld "{REPO}/robots/bazar/sophia.yaml"\n\n'
+                    'task arms: joint_position(bazar_arms) {\n    priority = 1\n}\n\n'
+                    'stat first {\n    enter { enable arms }\n    when arms.reached -> done\n}\n'
+                    '\nfinal done\n')
+    assert check(str(path), "--format", "json") == 1
+    [report] = json.loads(capsys.readouterr().out)
+    assert [(d["span"]["line"], d["code"], d["message"], d["hint"])
+            for d in report["diagnostics"]] == [
+        (9, "syntax-error", "unexpected name 'stat'", "did you mean 'state'?")]
 
 
 def test_a_declaration_that_recovery_mended_is_checked_like_any_other(tmp_path, capsys):

@@ -144,10 +144,12 @@ CLEAN = ACCENTED.replace("coutn", "count")
     ACCENTED.replace("-> done {", "done {"),
     ACCENTED.replace("var count: count = 0", "var count: count: 0"),
     CLEAN.replace("count + 1 }\n}\n", "count + 1 }\n"),
-], ids=["did-you-mean", "missing arrow", "colon for equals", "unclosed block"])
+    CLEAN.replace("state s {", "stat s {"),
+], ids=["did-you-mean", "missing arrow", "colon for equals", "unclosed block", "misspelt keyword"])
 async def test_quick_fixes_leave_a_clean_document(client: LanguageClient, tmp_path, broken):
-    """A did-you-mean hint's replacement, a missing '->', a ':' written for '=' and a
-    block left open are mended by their quick fixes: the document then checks clean."""
+    """A did-you-mean hint's replacement (of a name, of a misspelt keyword), a missing
+    '->', a ':' written for '=' and a block left open are mended by their quick fixes:
+    the document then checks clean."""
     path = tmp_path / "fixable.mission"
     path.write_text(broken, encoding="utf-8")
     uri = await opened(client, path)

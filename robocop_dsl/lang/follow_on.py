@@ -6,16 +6,21 @@ the one thing to fix there; the rest would be noise before it.
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 
 from ..diagnostics import Diagnostic, SourceFile
 from . import ast
-from .syntax_errors import CONTINUED, UNCLOSED, code_of
+from .syntax_errors import CONTINUED, RESERVED, UNCLOSED, code_of
 
-_DECLARES = re.compile(r"\s*(?:let|task|constraint|event|behavior|state|final|region)\s+"
-                       r"([A-Za-z_]\w*)")
+_DECLARING = ("let", "task", "constraint", "event", "behavior", "state", "final", "region")
+_DECLARES = re.compile(rf"\s*(?:{'|'.join(_DECLARING)})\s+([A-Za-z_]\w*)")
+_MISSPELT = re.compile(r"\s*([A-Za-z_]\w*)\s+([A-Za-z_]\w*)\s*(?:[:{(]|$)")
+"""A word then a name that ends the line or opens a block, a call or a type: a
+declaration whose keyword may be misspelt (``stat home {``)."""
+_FINAL = re.compile(r"\s*final\b")
 
 
 @dataclass(frozen=True)
@@ -49,9 +54,9 @@ class Broken:
             while last < source.line_count and CONTINUED.search(code_of(source.line(last))):
                 last += 1
             lines.update(range(first, last + 1))
-            declared = _DECLARES.match(code_of(source.line(first)))
+            declared = _declared(code_of(source.line(first)))
             if declared:
-                names.add(declared.group(1))
+                names.add(declared)
         if names:
             names -= {name for name, node in _declarations(tree, lines)
                       if not isinstance(node, ast.Let)}
@@ -65,9 +70,24 @@ class Broken:
             return False
         if span.line in self.lines:
             return True
+        if diagnostic.code == "start-is-final" and self.lines \
+                and min(self.lines) < span.line and _FINAL.match(self.source.line(span.line)):
+            return True     # the first state that parsed: a broken one before it came first
         if span.line != span.end_line:
             return False
         return self.source.line(span.line)[span.column - 1:span.end_column - 1] in self.names
+
+
+def _declared(code: str) -> str | None:
+    """The name a statement's first line declares, its keyword possibly misspelt."""
+    declared = _DECLARES.match(code)
+    if declared:
+        return declared.group(1)
+    words = _MISSPELT.match(code)
+    if words and words.group(1) not in RESERVED \
+            and difflib.get_close_matches(words.group(1), _DECLARING, n=1, cutoff=0.75):
+        return words.group(2)
+    return None
 
 
 def _declarations(node, lines: frozenset[int] | set[int]):

@@ -14,6 +14,7 @@ line of their ``{``, shows to be over, and where to close each.
 
 from __future__ import annotations
 
+import difflib
 import functools
 import re
 from dataclasses import dataclass
@@ -161,6 +162,10 @@ class Recovery:
         shown = expected[:_GENERIC_HINT_LIMIT] + (["..."] if len(expected) > _GENERIC_HINT_LIMIT
                                                   else [])
         hint = "expected " + ", ".join(shown) if expected else None
+        if token.type in ("NAME", "UNIT"):
+            words = [shown[1:-1] for shown in expected if shown[1:-1].isidentifier()]
+            meant = difflib.get_close_matches(token.value, words, n=1, cutoff=0.75)
+            hint = f"did you mean '{meant[0]}'?" if meant else hint
         self._add("syntax-error", f"unexpected {self._describe(token)}", _span(token), hint)
 
     def _bad_character(self, error: UnexpectedCharacters) -> None:
