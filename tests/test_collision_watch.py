@@ -172,3 +172,25 @@ def test_runs_one_after_the_other_leave_nothing_behind():
         del runner, state
     gc.collect()
     assert [ref() for ref in kept] == [None] * len(kept)
+
+
+def test_the_bounds_follow_the_velocity_and_the_limits_at_one_configuration(bazar):
+    """The robot still (one configuration, one kinematic state), a new command or a new
+    table of acceleration limits changes the bounds: each time they are those of a
+    controller that sees that state for the first time."""
+    q = _configuration(bazar)
+    rng = np.random.default_rng(5)
+    slow, fast = rng.normal(scale=0.2, size=16), rng.normal(scale=3.0, size=16)
+    controller, constraints = _controller(bazar, ["bench"])
+    bench = constraints["bench"]
+    before = _rows(controller, bench, q, slow)
+    found = _rows(controller, bench, q, fast)
+    assert not np.allclose(found[2], before[2])
+    _same(found, _alone(bazar, "bench", q, fast))
+    weak = np.full(16, 0.01)      # rad/s^2: the joints can hardly brake
+    controller.state.max_acceleration = weak
+    found = _rows(controller, bench, q, fast)
+    fresh, alone = _controller(bazar, ["bench"])
+    fresh.state.max_acceleration = weak.copy()
+    _same(found, _rows(fresh, alone["bench"], q, fast))
+    assert not np.allclose(found[2], _alone(bazar, "bench", q, fast)[2])

@@ -4,6 +4,7 @@ the log is complete (``end`` event, one time series row per cycle), no traceback
 Each test waits for a condition (a file's content, a handler installed), never for
 the clock."""
 
+import os
 import signal
 import subprocess
 import sys
@@ -96,4 +97,27 @@ def test_sigint_during_start_up_ends_the_run_cleanly(tmp_path):
     process = start_run(log)
     wait_for(handlers_installed(process), process)
     process.send_signal(signal.SIGINT)
+    assert_clean_end(process, log, 130, "SIGINT")
+
+
+def writing_process(process: subprocess.Popen) -> list:
+    """The pids of the log's writing process once it is started (else empty)."""
+    children = Path(f"/proc/{process.pid}/task/{process.pid}/children")
+    return [int(pid) for pid in children.read_text().split()] if children.exists() else []
+
+
+def test_signals_to_every_process_during_start_up_end_the_run_cleanly(tmp_path):
+    """A terminal's Ctrl-C goes to the run's whole process group, and a service
+    manager's SIGTERM to every process of the service: sent while the log's writing
+    process is still starting, the run still stops at its start with a complete log."""
+    log = tmp_path / "log"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "robocop_dsl", "run", "missions/pickup.mission", "--realtime",
+         "--log", str(log)], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, start_new_session=True)
+    wait_for(lambda: writing_process(process), process)
+    for pid in writing_process(process):
+        os.kill(pid, signal.SIGTERM)
+        os.kill(pid, signal.SIGINT)
+    os.killpg(process.pid, signal.SIGINT)
     assert_clean_end(process, log, 130, "SIGINT")

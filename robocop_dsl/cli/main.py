@@ -20,6 +20,7 @@ from . import (check_cmd, export_cmd, graph_cmd, lsp_cmd, plot_cmd, run_cmd, swe
                world_cmd)
 
 BROKEN_PIPE = 128 + 13   # exit code of a process whose output pipe closed (SIGPIPE)
+INTERRUPTED = 128 + 2    # exit code of a process stopped by Ctrl-C (SIGINT)
 COMMANDS = (check_cmd, run_cmd, graph_cmd, world_cmd, plot_cmd, export_cmd, sweep_cmd,
             lsp_cmd)
 
@@ -51,8 +52,9 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def entry_point() -> None:
-    """The ``robocop-mission`` command: :func:`main`, and when the reader of its output
-    goes away (a pipe into ``head``), exit 141 without a word."""
+    """The ``robocop-mission`` command: :func:`main`; when the reader of its output
+    goes away (a pipe into ``head``), exit 141 without a word, and on a Ctrl-C that no
+    command handles yet (while it imports what it needs), 130."""
     try:
         code = main()
         sys.stdout.flush()
@@ -60,4 +62,6 @@ def entry_point() -> None:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         code = BROKEN_PIPE
+    except KeyboardInterrupt:
+        code = INTERRUPTED
     sys.exit(code)

@@ -9,11 +9,11 @@ and sends them and the events down a pipe: in a real-time run, every :data:`PERI
 of mission time, from a thread that works while the loop sleeps and drops the oldest
 cycles rather than make the loop wait (:mod:`~robocop_dsl.runtime.writer_thread`); in
 a headless run, every :data:`BACKLOG`, in the loop's own thread (the loop never
-sleeps: a thread beside it would only take turns with it). The writing process
-(``python -m robocop_dsl.ecosystem.log_process``; in a real-time run, at the idle
-priority: see :func:`_yield_to_the_loop`) runs a
-:class:`~robocop_dsl.runtime.RunLogger` and the ``run.mcap`` writer on them. Neither
-SIGINT nor SIGTERM stops it: the run's process stops the run and then the log. If that
+sleeps: a thread beside it would only take turns with it). The writing process (:func:`main`,
+in a session of its own; in a real-time run, at the idle priority: see
+:func:`_yield_to_the_loop`) runs a :class:`~robocop_dsl.runtime.RunLogger` and the
+``run.mcap`` writer on them. Neither SIGINT nor SIGTERM stops it, from its start: the
+run's process stops the run and then the log. If that
 process dies, the log stays as a killed run leaves it (the row groups and the MCAP
 chunks written so far).
 """
@@ -53,6 +53,16 @@ PIPE_SIZE = 1 << 20
 """Bytes the pipe to the writing process holds (Linux), about 5 s of cycles of the
 pickup."""
 _LENGTH = struct.Struct("<Q")
+_STOPS = {signal.SIGINT, signal.SIGTERM}
+_LAUNCH = ("import signal\n"
+           "signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+           "signal.signal(signal.SIGTERM, signal.SIG_IGN)\n"
+           "signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT, signal.SIGTERM})\n"
+           f"from {__name__} import main\n"
+           "main()\n")
+"""The writing process: started with SIGINT and SIGTERM blocked, it ignores them before
+it lets them in, in a session of its own (a terminal's Ctrl-C goes to the run's
+process group, not to it): the run's process stops the run, then the log."""
 
 
 class LogProcessError(RobocopError):
@@ -79,8 +89,13 @@ class LogProcess(Observer):
         Path(folder).mkdir(parents=True, exist_ok=True)
         self.folder = str(folder)
         self.dropped = 0
-        self._process = subprocess.Popen([sys.executable, "-m", __name__],
-                                         stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, _STOPS)
+        try:            # the process starts with them held, ours come once it is started
+            self._process = subprocess.Popen([sys.executable, "-c", _LAUNCH],
+                                             stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                             start_new_session=True)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, held)
         if hasattr(fcntl, "F_SETPIPE_SZ"):     # Linux: a pipe of seconds of cycles
             with contextlib.suppress(OSError):
                 fcntl.fcntl(self._process.stdin.fileno(), fcntl.F_SETPIPE_SZ, PIPE_SIZE)
@@ -224,8 +239,6 @@ def _receive(stream):
 def main() -> None:
     """The writing process: the writers of the log in the folder the run names, fed
     the cycles and events the run sends, until it says stop (or disappears)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
     requests = sys.stdin.buffer
     replies = os.fdopen(os.dup(sys.stdout.fileno()), "wb")
     os.dup2(sys.stderr.fileno(), sys.stdout.fileno())       # stray prints: to stderr
@@ -288,6 +301,3 @@ def _yield_to_the_loop() -> None:
 def _text(error: BaseException) -> str:
     return "".join(traceback.format_exception_only(type(error), error)).strip()
 
-
-if __name__ == "__main__":
-    main()

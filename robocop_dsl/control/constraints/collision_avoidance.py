@@ -186,14 +186,15 @@ class CollisionAvoidanceConstraint(Constraint):
         return self._size
 
     def _update(self, state: ControlState) -> None:
-        """Place the shapes at the current state and find the pairs within influence
-        (once per state); decide the row count the next plan should have."""
-        kinematics = state.kinematics
-        if self._stamp == kinematics.stamp:
-            return
-        self._stamp = kinematics.stamp
+        """Take the pairs within influence at the current state and their bounds from
+        the watch (it measures once per state, and bounds again when the command or the
+        acceleration limits change); decide the row count the next plan should have."""
         watch = self.watch
-        self._span = first, end = watch.span(self)
+        span = watch.span(self)
+        if self._stamp == state.kinematics.stamp and watch.seen is self._seen:
+            return
+        self._stamp, self._written = state.kinematics.stamp, (-1, -1)
+        self._span = first, end = span
         self._seen = watch.seen
         wanted = _ROW_CHUNK * -((first - end) // _ROW_CHUNK)
         if wanted > self._size or 2 * wanted <= self._size:

@@ -86,6 +86,10 @@ class CollisionWatch:
         self._offset = self._damping = np.zeros(0)
         self._nothing = self.seen = nothing_seen(self.scene, state.dofs)
         """What the last look at a state found."""
+        self._found: tuple | None = None
+        """The pairs within influence, their rows and damper offsets [m/s]."""
+        self._bounded_for: tuple = (None, None)
+        """The velocity and acceleration limits :attr:`seen`'s bounds were computed with."""
 
     def add(self, owner, pairs: list[tuple[str, str]]) -> int:
         """Watch ``pairs`` of bodies for ``owner`` (a constraint with ``enabled``,
@@ -112,6 +116,7 @@ class CollisionWatch:
         self._starts = [0, *itertools.accumulate(counts)]
         self._key = None
         self._stamp = -1
+        self._found = None
         self._nothing = self.seen = nothing_seen(self.scene, self.state.dofs)
 
     def retune(self) -> None:
@@ -126,7 +131,20 @@ class CollisionWatch:
         if self._stamp != stamp or self._key != key:
             self._stamp = stamp
             self._look(key)
+        elif self._motion_changed():
+            self._bound()
         return self._spans.get(owner, _NO_SPAN)
+
+    def _motion_changed(self) -> bool:
+        """Whether the state's velocity or acceleration limits are not those the bounds
+        were computed with (the configuration can stay while they change: a new
+        command, a new table of limits)."""
+        state = self.state
+        velocity, acceleration = self._bounded_for
+        if state.velocity is velocity and state.max_acceleration is acceleration:
+            return False
+        return not (np.array_equal(state.velocity, velocity)
+                    and np.array_equal(state.max_acceleration, acceleration))
 
     def _look(self, key: tuple) -> None:
         """Every owner's pairs within influence at the current state, rows and bounds
@@ -145,6 +163,7 @@ class CollisionWatch:
         pairs = nearby.pairs
         if not pairs.size:
             self.seen, self._spans, self._spans_of = self._nothing, {}, b""
+            self._found = None
             return
         signature = pairs.tobytes()
         if signature != self._spans_of:
@@ -154,10 +173,20 @@ class CollisionWatch:
             cuts = [bisect_left(found, start) for start in self._starts]
             self._spans = {owner: (start, end) for owner, start, end
                            in zip(self._owners, cuts, cuts[1:]) if end > start}
-        rows = scene.distance_rows(nearby, state.columns)
-        damper = self._offset - self._damping * nearby.distances
+        self._found = (nearby, scene.distance_rows(nearby, state.columns),
+                       self._offset - self._damping * nearby.distances)
+        self._bound()
+
+    def _bound(self) -> None:
+        """The damper and viable bounds of the pairs found, at the state's velocity and
+        acceleration limits."""
+        state = self.state
+        self._bounded_for = (state.velocity, state.max_acceleration)
+        if self._found is None:
+            return
+        nearby, rows, damper = self._found
         rate = rows @ state.velocity
         bounds = damper_bounds(damper, rate, self._damping, state.time_step)
         viable = distance_rate_bounds(damper / -self._damping, rows, rate,
                                       state.max_acceleration, state.time_step)
-        self.seen = Seen(scene, nearby, rows, np.maximum(bounds, viable, out=viable))
+        self.seen = Seen(self.scene, nearby, rows, np.maximum(bounds, viable, out=viable))
