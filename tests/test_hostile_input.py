@@ -159,6 +159,36 @@ def test_yaml_values_python_cannot_hold_are_located_errors(tmp_path, text, probl
     assert bad.code == "yaml-syntax" and problem in bad.message and bad.span.line == 2
 
 
+BAZAR = ROBOTS_DIR / "bazar" / "sophia.yaml"
+
+
+@pytest.mark.parametrize("entry, problem, line", [
+    ("  - path: robocop/point.urdf\n    namespace: p1\n"
+     "    joint: {position: {angular: [.nan, 0, 0]}}\n",
+     "'angular' must be 3 finite numbers", 5),
+    ("  - path: robocop/point.urdf\n    namespace: p1\n"
+     "    joint: {position: {linear: [.inf, 0, 0]}}\n",
+     "'linear' must be 3 finite numbers", 5),
+    ("initial:\n  bazar_arms: [1e308, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]\n",
+     "'bazar_arms' must be a list of finite numbers", 4),
+    ("initial:\n  bazar_arms: [.nan, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]\n",
+     "'bazar_arms' must be a list of finite numbers", 4)])
+def test_numbers_a_world_cannot_place_a_joint_at_are_one_located_error(
+        tmp_path, entry, problem, line):
+    """NaN, infinity, or a number YAML read as text, where the world places or starts a
+    joint: one error at its line, in ``world`` as in ``check``."""
+    world = tmp_path / "world.yaml"
+    world.write_text(f"models:\n  - include: {BAZAR}\n" + entry)
+    (tmp_path / "m.mission").write_text(mission("world.yaml"))
+    found = only_located(check_cli("--format", "json", str(tmp_path / "m.mission")))
+    [bad] = [d for d in found if d["file"].endswith("world.yaml")]
+    assert (bad["code"], bad["message"], bad["span"]["line"]) == ("invalid-entry", problem, line)
+    shown = subprocess.run([sys.executable, "-m", "robocop_dsl", "world", str(world)],
+                           capture_output=True, text=True)
+    assert shown.returncode == 1 and "Traceback" not in shown.stderr
+    assert f"world.yaml:{line}:" in shown.stdout + shown.stderr and problem in shown.stdout + shown.stderr
+
+
 # ---- no recursion limit reachable from a mission ------------------------------------
 
 def _ands(depth: int) -> str:

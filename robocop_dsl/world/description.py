@@ -6,6 +6,8 @@ Nothing here reads a URDF or touches pinocchio; :mod:`.assembly` does that.
 
 from __future__ import annotations
 
+import math
+
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,6 +21,7 @@ ROOT = "world"
 JOINT_TYPES = ("fixed", "revolute", "continuous", "prismatic", "floating", "planar")
 _DURATION = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(us|ms|s)\s*$")
 _SECONDS = {"us": 1e-6, "ms": 1e-3, "s": 1.0}
+_NUMBER = re.compile(r"[-+]?[0-9]*\.?[0-9]+[eE][-+]?[0-9]+")
 _MODEL_KEYS = {"include", "path", "namespace", "joint", "srdf", "free"}
 _JOINT_KEYS = {"parent", "type", "axis", "position", "limits", "name"}
 _LIMIT_KEYS = {"lower", "upper", "velocity", "effort"}
@@ -310,12 +313,16 @@ class _Reader:
         return 0.0
 
     def _vector(self, source, mapping: YamlMap, key, value, length: int | None) -> tuple:
+        """``value`` as a tuple of ``length`` (any, if ``None``) finite numbers; zeros and
+        a diagnostic when it is not."""
         ok = isinstance(value, list) and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            for v in value)
         if not ok or (length is not None and len(value) != length):
-            size = f"{length} numbers" if length is not None else "a list of numbers"
+            size = f"{length} finite numbers" if length is not None else "a list of finite numbers"
             self.out.diagnostics.append(source.error(
-                "invalid-entry", f"'{key}' must be {size}", mapping.span(key)))
+                "invalid-entry", f"'{key}' must be {size}", mapping.span(key),
+                "YAML reads 1e3 as text: write 1.0e+3" if _exponent_text(value) else None))
             return tuple([0.0] * (length or 0))
         return tuple(float(v) for v in value)
 
@@ -339,9 +346,11 @@ class _Reader:
         for key, values in initial.items():
             if isinstance(values, (int, float)) and not isinstance(values, bool):
                 values = [values]
+            reported = len(self.out.diagnostics)
             vector = self._vector(source, initial, key, values, None)
-            self.out.initial.append((prefixed(prefix, str(key)), vector,
-                                     Located(source, initial.span(key))))
+            if len(self.out.diagnostics) == reported:
+                self.out.initial.append((prefixed(prefix, str(key)), vector,
+                                         Located(source, initial.span(key))))
 
     def _wins(self, stack: tuple, key) -> bool:
         """Whether the file at the end of ``stack`` sets ``key`` (a processor's name, or
@@ -423,3 +432,9 @@ class _Reader:
 def _looked_in(folder: Path) -> str:
     searched = ", ".join(str(p) for p in paths.search_folders(folder))
     return f"looked in: {searched} (add folders with ROBOCOP_PATH)"
+
+
+def _exponent_text(value) -> bool:
+    """Whether ``value`` holds a number YAML 1.1 read as text (``1e3``, no dot)."""
+    return isinstance(value, list) and any(
+        isinstance(v, str) and _NUMBER.fullmatch(v) for v in value)
