@@ -21,6 +21,7 @@ from robocop_dsl.sources import MAX_SOURCE_BYTES
 from robocop_dsl.world.yaml_source import MAX_DEPTH
 
 PANDA = ROBOTS_DIR / "panda" / "panda_on_table.yaml"
+BAZAR = ROBOTS_DIR / "bazar" / "sophia.yaml"
 SECRET = "BEGIN-PRIVATE-KEY-c2VjcmV0"
 CACHE = WorldCache()
 
@@ -146,6 +147,19 @@ def test_a_yaml_alias_into_itself_is_a_located_error(tmp_path):
     assert any("contains it" in d["message"] for d in found)
 
 
+def test_a_key_set_twice_is_a_located_error(tmp_path):
+    """YAML keeps the last of two values of one key without a word: a world that sets
+    an initial posture twice is an error at the second."""
+    (tmp_path / "world.yaml").write_text(
+        f"models:\n  - include: {BAZAR}\ninitial:\n  bazar_arms: [0, 0.2]\n"
+        "  bazar_arms: [0, 0.3]\n")
+    (tmp_path / "m.mission").write_text(mission("world.yaml"))
+    found = only_located(check_cli("--format", "json", str(tmp_path / "m.mission")))
+    [bad] = [d for d in found if d["file"].endswith("world.yaml")]
+    assert bad["code"] == "yaml-syntax" and bad["span"]["line"] == 5
+    assert "'bazar_arms' is set twice (first at line 4)" in bad["message"]
+
+
 @pytest.mark.parametrize("text, problem", [
     ("models:\n  - ? [a]\n    : 1\n", "a key must be a single value"),
     ("models:\n  - path: !!binary aGk=\n", "'binary' has no meaning here"),
@@ -157,9 +171,6 @@ def test_yaml_values_python_cannot_hold_are_located_errors(tmp_path, text, probl
     [bad] = [d for d in check_file(tmp_path / "m.mission").diagnostics
              if d.file.endswith("world.yaml")]
     assert bad.code == "yaml-syntax" and problem in bad.message and bad.span.line == 2
-
-
-BAZAR = ROBOTS_DIR / "bazar" / "sophia.yaml"
 
 
 @pytest.mark.parametrize("entry, problem, line", [

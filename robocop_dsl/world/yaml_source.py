@@ -70,6 +70,12 @@ class TooLarge(ComposerError):
     hint = "write the values out: a world or campaign file needs no deep nesting or aliases"
 
 
+class DuplicateKey(ConstructorError):
+    """A mapping that sets one key twice (YAML would keep the last silently)."""
+
+    hint = "keep one of them"
+
+
 class _Loader(yaml.SafeLoader):
     """PyYAML's safe loader with the nesting depth and the expanded size bounded."""
 
@@ -131,6 +137,7 @@ def _expect(node, kind, what: str) -> None:
 
 def _construct_map(loader: _Loader, node) -> YamlMap:
     _expect(node, MappingNode, "a mapping")
+    _refuse_duplicates(node)
     loader.flatten_mapping(node)
     result = YamlMap()
     result.line, result.column = node.start_mark.line + 1, node.start_mark.column + 1
@@ -143,6 +150,19 @@ def _construct_map(loader: _Loader, node) -> YamlMap:
         result.key_spans[key] = _span(key_node)
         result.value_spans[key] = _span(value_node)
     return result
+
+
+def _refuse_duplicates(node) -> None:
+    """Raise :class:`DuplicateKey` at the second of two keys written alike in ``node``
+    (a merge key's ``<<`` keys may be overridden: they are not among them)."""
+    first: dict = {}
+    for key_node, _ in node.value:
+        if not isinstance(key_node, ScalarNode) or key_node.tag == "tag:yaml.org,2002:merge":
+            continue
+        line = first.setdefault(key_node.value, key_node.start_mark.line + 1)
+        if line != key_node.start_mark.line + 1:
+            raise DuplicateKey(None, None, f"the key {key_node.value!r} is set twice (first "
+                               f"at line {line})", key_node.start_mark)
 
 
 def _construct_list(loader: _Loader, node) -> YamlList:
@@ -203,7 +223,7 @@ def parse_yaml(source: SourceFile):
         mark = error.problem_mark or error.context_mark
         span = Span.point(mark.line + 1, mark.column + 1) if mark else Span.point(1)
         problem = error.problem or error.context or "invalid YAML"
-        hint = error.hint if isinstance(error, TooLarge) else \
+        hint = error.hint if isinstance(error, (TooLarge, DuplicateKey)) else \
             "check the indentation and that every ':' is followed by a space"
         raise DiagnosticError([source.error(
             "yaml-syntax", f"malformed YAML: {problem}", span, hint)]) from None
