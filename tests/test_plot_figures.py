@@ -128,13 +128,13 @@ def test_a_panel_per_declared_joint_group(tmp_path):
     pan-tilt unit, not its 16 joints by name; the largest groups of ten at most that
     share no joint, in the world's order."""
     from robocop_dsl.runtime import load_mission
-    from robocop_dsl.runtime.log import RunLogger
+    from robocop_dsl.runtime.log import RunLogger, check_timeseries
     from robocop_dsl.runtime.plot import _declared_groups
 
     runner = load_mission(REPO / "missions" / "pickup.mission").runner()
     runner.add_observer(RunLogger(tmp_path, runner.joint_names))
     runner.run(duration=0.05)
-    declared = _declared_groups(tmp_path)
+    declared = _declared_groups(check_timeseries(tmp_path))
     assert set(declared) == {"bazar_left_arm", "bazar_right_arm", "bazar_arms", "bazar_ptu",
                              "bazar_upper_joints"}
     joints = list(runner.joint_names)

@@ -21,17 +21,16 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..runtime.log import TIMESERIES, UnreadableLog, timeseries_schema
-    from ..runtime.plot import plot_run
+    from ..runtime.log import TIMESERIES, UnreadableLog
+    from ..runtime.plot import PlotError, plot_run
 
     try:
-        timeseries_schema(args.log)
         paths = plot_run(args.log, args.output, args.format)
     except FileNotFoundError:
         print(f"{args.log}: no {TIMESERIES} here; write one with "
               f"'robocop-mission run MISSION --log {args.log}'", file=sys.stderr)
         return 1
-    except UnreadableLog as error:
+    except (UnreadableLog, PlotError) as error:
         print(f"robocop-mission plot: error: {error}", file=sys.stderr)
         return 1
     for path in paths:

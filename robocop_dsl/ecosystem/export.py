@@ -12,13 +12,14 @@ kinds (its ``tasks`` metadata).
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
 
 from ..diagnostics import RobocopError
 from ..runtime.log import (EVENTS, PARTS, POSE_COMPONENTS, TASKS_KEY, TIMESERIES,
-                           read_parquet, timeseries_files, timeseries_schema,
+                           check_timeseries, event_lines, read_parquet, timeseries_files,
                            wrench_columns)
 from ..runtime.records import CycleRecord, TaskView
 from .frames import quaternion_matrices
@@ -28,6 +29,8 @@ from .topics import RunTopics
 
 ROWS = 1000
 """Time series rows read at a time."""
+COLUMNS = ("cycle", "time", "state", "solved")
+"""The time series columns an export needs (with ``command.JOINT`` for each ``q.JOINT``)."""
 
 
 class ExportError(RobocopError):
@@ -50,27 +53,32 @@ def export_mcap(folder: str | Path, output: str | Path | None = None,
         ExportError: no folder, no events or time series in it, no world, a world
             without the log's joints, ``output`` exists (without ``replace``) or
             cannot be written.
-        UnreadableLog: a time series file is damaged.
+        UnreadableLog: a damaged log: ``events.jsonl`` or a time series file (see
+            :func:`~robocop_dsl.runtime.log.check_timeseries`). Nothing is written then.
         DiagnosticError: the world named by the log does not load.
     """
     folder = Path(folder)
-    if not folder.is_dir():
-        raise ExportError(f"{folder}: no such folder" if not folder.exists() else
+    if not os.path.isdir(folder):
+        raise ExportError(f"{folder}: no such folder" if not os.path.exists(folder) else
                           f"{folder}: not a folder; give the folder given to 'run --log'")
+    lines = _event_lines(folder)
+    try:
+        schema = check_timeseries(folder, COLUMNS)
+    except FileNotFoundError:
+        raise ExportError(f"{folder}: no {TIMESERIES} nor {PARTS}/ here; write a log "
+                          "with 'robocop-mission run MISSION --log DIR'") from None
     path = Path(output) if output is not None else folder / MCAP_FILE
-    if path.exists() and not replace:
+    if os.path.exists(path) and not replace:
         raise ExportError(f"{path} exists" + (" (the run wrote it, with the targets an "
                                              "export cannot rebuild)" if output is None
                                              else "") +
                           ": give another file with --output, or --replace to write over it")
-    lines = _event_lines(folder)
-    try:
-        schema = timeseries_schema(folder)
-    except FileNotFoundError:
-        raise ExportError(f"{folder}: no {TIMESERIES} nor {PARTS}/ here; write a log "
-                          "with 'robocop-mission run MISSION --log DIR'") from None
     if world is None:
         world = _logged_world(folder, lines)
+    for _, event in lines:
+        if event["kind"] == "action" and not _replayable(event, world):
+            raise ExportError(f"{folder}/{EVENTS}: the action at cycle {event['cycle']} "
+                              f"cannot be replayed on {world.path}")
     joints = [name[2:] for name in schema.names if name.startswith("q.")]
     missing = [joint for joint in joints if joint not in world.joint_names()]
     if missing:
@@ -79,47 +87,63 @@ def export_mcap(folder: str | Path, output: str | Path | None = None,
     metadata = schema.metadata or {}
     kinds = json.loads(metadata[TASKS_KEY]) if TASKS_KEY in metadata else {}
     topics = RunTopics(world, joints, MCAP_TF_PERIOD)
+    written = path.with_name(path.name + ".tmp")
     try:
-        mcap = McapFile(path, topics.topics)
+        mcap = McapFile(written, topics.topics)
+        mcap.write(topics.opening())
+        replay = _Replay(world, joints, kinds, [event for _, event in lines])
+        for columns in _rows(folder):
+            mcap.write(topics.cycles(replay.records(columns)))
+            mcap.checkpoint()
+        for line, _ in lines:
+            mcap.write(topics.event(line))
+        mcap.close()
+        os.replace(written, path)
     except OSError as error:
         raise ExportError(f"cannot write {path}: {error.strerror or error}") from None
-    mcap.write(topics.opening())
-    replay = _Replay(world, joints, kinds, [json.loads(line) for line in lines])
-    for columns in _rows(folder):
-        mcap.write(topics.cycles(replay.records(columns)))
-        mcap.checkpoint()
-    for line in lines:
-        mcap.write(topics.event(line))
-    mcap.close()
+    finally:
+        if os.path.lexists(written):
+            os.unlink(written)
     return path
 
 
 def _event_lines(folder: Path) -> list:
-    """The lines of ``events.jsonl`` that are whole JSON objects."""
+    """``(line, event)`` for each event of ``events.jsonl``."""
     try:
-        text = (folder / EVENTS).read_text(encoding="utf-8")
+        return event_lines(folder)
     except FileNotFoundError:
         raise ExportError(f"{folder}: no {EVENTS} here; write a log with "
                           "'robocop-mission run MISSION --log DIR'") from None
-    lines = []
-    for line in text.splitlines():
-        try:
-            json.loads(line)
-        except json.JSONDecodeError:
-            continue
-        lines.append(line)
-    return lines
 
 
 def _logged_world(folder: Path, lines: list):
     """The world the log's ``start`` event names, loaded."""
     from ..world import load_world
 
-    start = next((json.loads(line) for line in lines if '"start"' in line), {})
-    if start.get("kind") != "start" or "world" not in start:
+    start = next((event for _, event in lines if event["kind"] == "start"), {})
+    if "world" not in start:
         raise ExportError(f"{folder}/{EVENTS} does not say which world the run was on "
                           "(logs written before it did): give it with --world WORLD.yaml")
+    if not isinstance(start["world"], str):
+        raise ExportError(f"{folder}/{EVENTS}: the start event's world is not a file "
+                          "name; give the run's world with --world WORLD.yaml")
     return load_world(start["world"])
+
+
+def _replayable(event: dict, world) -> bool:
+    """Whether an ``action`` event names bodies of ``world`` and, to set a pose, gives
+    a position and maybe an orientation."""
+    def numbers(value, count: int) -> bool:
+        return (isinstance(value, list) and len(value) == count
+                and all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                        for x in value))
+
+    action = event.get("action")
+    return (isinstance(event.get("body"), str) and world.has_body(event["body"])
+            and (action != "attach" or isinstance(event.get("to"), str)
+                 and world.has_body(event["to"]))
+            and (action != "set_pose" or numbers(event.get("position"), 3)
+                 and numbers(event.get("orientation", [0, 0, 0, 1]), 4)))
 
 
 def _rows(folder: Path):

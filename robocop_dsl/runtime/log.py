@@ -404,26 +404,86 @@ def read_parquet(read, path: Path):
 
 def timeseries_files(folder: str | Path) -> list[Path]:
     """The Parquet files of a logged run's time series: the joined file, else the row
-    groups of a killed run. Raises ``FileNotFoundError`` when there are none."""
+    groups of a killed run. Raises ``FileNotFoundError`` when there are none,
+    :class:`UnreadableLog` when the folder cannot be read."""
     folder = Path(folder)
-    if (folder / TIMESERIES).is_file():
-        return [folder / TIMESERIES]
-    parts = sorted((folder / PARTS).glob("*.parquet")) if folder.is_dir() else []
+    try:
+        if (folder / TIMESERIES).is_file():
+            return [folder / TIMESERIES]
+        parts = sorted((folder / PARTS).glob("*.parquet")) if folder.is_dir() else []
+    except OSError as error:
+        raise UnreadableLog(f"{folder}: cannot be read ({error.strerror})") from None
     if not parts:
         raise FileNotFoundError(f"{folder} has neither {TIMESERIES} nor {PARTS}/")
     return parts
 
 
-def timeseries_schema(folder: str | Path):
-    """The pyarrow schema of a logged run's time series (joined or in row groups).
+LATEST = 2.0 ** 31
+"""[s] Mission times are below it (the seconds of a ROS 2 time stamp are an int32)."""
+RANGES = {"cycle": (0, np.inf), "time": (0, LATEST)}
+"""The range of the time series' ``cycle`` and ``time`` columns (upper bound left out)."""
+
+
+def check_timeseries(folder: str | Path, columns: tuple = ("time", "state")):
+    """The schema of a logged run's time series, checked: every file has the same
+    columns, among them ``columns``; every column but ``state`` holds numbers; every
+    ``q.JOINT`` has its ``command.JOINT``; ``cycle`` and ``time`` are within
+    :data:`RANGES`; its ``joint_groups`` and ``tasks`` metadata, when there, are JSON
+    of their shape.
 
     Raises:
         FileNotFoundError: there is none.
-        UnreadableLog: its file is damaged.
+        UnreadableLog: a file is damaged or is not a time series.
     """
+    import pyarrow as pa
     import pyarrow.parquet as pq
 
-    return read_parquet(pq.read_schema, timeseries_files(folder)[0])
+    files = timeseries_files(folder)
+    schema = read_parquet(pq.read_schema, files[0])
+    names = schema.names
+    missing = [name for name in columns if name not in names] + [
+        f"command.{name[2:]}" for name in names
+        if name.startswith("q.") and f"command.{name[2:]}" not in names]
+    if missing:
+        raise UnreadableLog(f"{files[0]}: no column {', '.join(missing)}")
+    numeric = (pa.types.is_integer, pa.types.is_floating, pa.types.is_boolean)
+    odd = [f"{field.name} ({field.type})" for field in schema if field.name != "state"
+           and not any(kind(field.type) for kind in numeric)]
+    if odd:
+        raise UnreadableLog(f"{files[0]}: columns that are not numbers: {', '.join(odd)}")
+    metadata = schema.metadata or {}
+    for key, valid in METADATA.items():
+        if key in metadata and not _valid_json(metadata[key], valid):
+            raise UnreadableLog(f"{files[0]}: its {key.decode()} metadata is damaged")
+    ranges = {name: RANGES[name] for name in RANGES if name in names}
+    for file in files:
+        if not read_parquet(pq.read_schema, file).equals(schema):
+            raise UnreadableLog(f"{file}: not the columns of {files[0]}")
+        table = read_parquet(lambda path: pq.read_table(path, columns=list(ranges)), file)
+        for name, (low, high) in ranges.items():
+            values = table.column(name).to_numpy(zero_copy_only=False).astype(float)
+            if not np.all((values >= low) & (values < high)):
+                raise UnreadableLog(f"{file}: column {name} holds values that are NaN or "
+                                    f"out of [{low:.0f}, {high:.0f})")
+    return schema
+
+
+def _valid_json(text: bytes, valid) -> bool:
+    """Whether ``text`` is a JSON object whose every value is ``valid``."""
+    try:
+        found = json.loads(text)
+    except ValueError:
+        return False
+    return isinstance(found, dict) and all(valid(value) for value in found.values())
+
+
+METADATA = {
+    GROUPS_KEY: lambda joints: isinstance(joints, list)
+    and all(isinstance(joint, str) for joint in joints),
+    TASKS_KEY: lambda task: isinstance(task, dict) and isinstance(task.get("kind"), str)
+    and isinstance(task.get("body"), (str, type(None))),
+}
+"""The time series' JSON metadata: key -> whether a value of its object is valid."""
 
 
 def reference_width(task) -> int:
@@ -459,17 +519,52 @@ def _plain(value):
     return str(value)
 
 
-def read_events(folder: str | Path) -> list:
-    """The events of a logged run, as dictionaries (a line cut short by a kill is
-    left out)."""
-    lines = (Path(folder) / EVENTS).read_text(encoding="utf-8").splitlines()
-    events = []
-    for line in lines:
+def event_lines(folder: str | Path) -> list:
+    """``(line, event)`` for each line of a logged run's ``events.jsonl``; a last line
+    cut short by a kill is left out.
+
+    Raises:
+        FileNotFoundError: there is none.
+        UnreadableLog: it cannot be read, or another line is not an event (a JSON
+            object with a string ``kind``, a ``cycle`` and a ``time`` in
+            :data:`RANGES`).
+    """
+    path = Path(folder) / EVENTS
+    try:
+        lines = path.read_bytes().splitlines()
+    except FileNotFoundError:
+        raise
+    except OSError as error:
+        raise UnreadableLog(f"{path}: cannot be read ({error.strerror})") from None
+    found = []
+    for number, line in enumerate(lines, start=1):
         try:
-            events.append(json.loads(line))
-        except json.JSONDecodeError:
-            continue
-    return events
+            text = line.decode("utf-8")
+            event = json.loads(text)
+        except ValueError:
+            if number == len(lines):
+                break
+            event = None
+        if not _is_event(event):
+            raise UnreadableLog(f"{path}: line {number} is not an event (a JSON object "
+                                "with a kind, a cycle and a time)")
+        found.append((text, event))
+    return found
+
+
+def _is_event(event) -> bool:
+    if not isinstance(event, dict):
+        return False
+    kind, time, cycle = event.get("kind"), event.get("time"), event.get("cycle")
+    return (isinstance(kind, str) and isinstance(cycle, int) and cycle >= 0
+            and isinstance(time, (int, float)) and 0 <= time < LATEST
+            and not isinstance(time, bool))
+
+
+def read_events(folder: str | Path) -> list:
+    """The events of a logged run, as dictionaries (a last line cut short by a kill is
+    left out); raises as :func:`event_lines`."""
+    return [event for _, event in event_lines(folder)]
 
 
 def read_timeseries(folder: str | Path) -> dict:

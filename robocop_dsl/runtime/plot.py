@@ -30,7 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .log import EVENTS, read_events, read_timeseries, timeseries_schema
+from ..diagnostics import RobocopError
+from .log import GROUPS_KEY, check_timeseries, read_events, read_timeseries
 
 WIDTH = 11.0             # [in] figure width
 PANEL_HEIGHT = 2.3       # [in] height of one panel of signals
@@ -47,6 +48,7 @@ ERROR_PANELS = {"m": "position error [m]", "rad": "angle error [rad]",
                 "m+rad": "pose error, norm of metres and radians [m, rad]",
                 "N": "force error [N]"}
 FORCE_PREFIX = "force."
+UNKNOWN_STEP = 1e-3      # [s] a cycle's length when the log cannot tell it (one row)
 _JOINT_WORD = re.compile(r"^(.*?)_?joint", re.IGNORECASE)
 
 
@@ -149,29 +151,33 @@ def panel_colours(count: int, plt) -> list:
     return [plt.get_cmap("turbo")(x) for x in np.linspace(0.05, 0.95, count)]
 
 
-def _field_units(folder: Path) -> dict:
+class PlotError(RobocopError):
+    """Figures that cannot be made: a log without cycles, an output that cannot be
+    written."""
+
+
+def _field_units(schema) -> dict:
     """``{column: unit}`` from the ``unit`` metadata of the time series' fields."""
-    schema = timeseries_schema(folder)
     return {field.name: field.metadata[b"unit"].decode() for field in schema
             if field.metadata and b"unit" in field.metadata}
 
 
-def _declared_groups(folder: Path) -> dict:
+def _declared_groups(schema) -> dict:
     """The joint groups the log's metadata lists (none for a log written before)."""
     import json
 
-    from .log import GROUPS_KEY
-
-    metadata = timeseries_schema(folder).metadata or {}
+    metadata = schema.metadata or {}
     return json.loads(metadata[GROUPS_KEY]) if GROUPS_KEY in metadata else {}
 
 
 def _final_state(folder: Path) -> tuple | None:
     """``(configuration, outcome)`` of the final state the run ended in, if any."""
-    if not (folder / EVENTS).is_file():
+    try:
+        ends = [e for e in read_events(folder) if e["kind"] == "end"]
+    except FileNotFoundError:
         return None
-    ends = [e for e in read_events(folder) if e["kind"] == "end"]
-    if ends and ends[-1].get("outcome") in ("success", "failure"):
+    if (ends and ends[-1].get("outcome") in ("success", "failure")
+            and isinstance(ends[-1].get("state"), str)):
         return ends[-1]["state"], ends[-1]["outcome"]
     return None
 
@@ -179,34 +185,58 @@ def _final_state(folder: Path) -> tuple | None:
 def plot_run(folder: str | Path, output: str | Path | None = None,
              fmt: str = "png") -> list:
     """Write the figures of the run logged in ``folder`` as ``fmt`` (png or svg);
-    return their paths."""
+    return their paths. Raises as :func:`figures`, and :class:`PlotError` when
+    ``output`` cannot be written."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    made = figures(folder)
     output = Path(output or folder)
-    output.mkdir(parents=True, exist_ok=True)
     written = []
-    for name, figure in figures(folder):
-        path = output / f"{name}.{fmt}"
-        figure.savefig(path, dpi=110)
-        plt.close(figure)
-        written.append(path)
+    try:
+        output.mkdir(parents=True, exist_ok=True)
+        for name, figure in made:
+            path = output / f"{name}.{fmt}"
+            try:
+                figure.savefig(path, dpi=110)
+            finally:
+                plt.close(figure)
+            written.append(path)
+    except FileExistsError:
+        raise PlotError(f"{output}: not a folder; give a folder for the figures with "
+                        "-o DIR") from None
+    except OSError as error:
+        raise PlotError(f"{error.filename or output}: cannot write the figures "
+                        f"({error.strerror or error})") from None
     return written
 
 
 def figures(folder: str | Path):
     """``(name, matplotlib figure)`` of each figure of the run logged in ``folder``,
-    one at a time (the caller closes each)."""
+    one at a time (the caller closes each); the log is read and checked first.
+
+    Raises:
+        FileNotFoundError: no time series there.
+        UnreadableLog: a damaged log (:func:`~robocop_dsl.runtime.log.check_timeseries`,
+            :func:`~robocop_dsl.runtime.log.event_lines`).
+        PlotError: a log without cycles.
+    """
     import matplotlib.pyplot as plt
 
     folder = Path(folder)
+    schema = check_timeseries(folder)
     data = read_timeseries(folder)
+    if not len(data["time"]):
+        raise PlotError(f"{folder}: no cycle logged, nothing to plot")
     states = StateBands(data["time"], np.asarray(data["state"]).astype(str),
                         _final_state(folder), plt)
-    units = error_units(data, _field_units(folder))
-    declared = _declared_groups(folder)
+    return _figures(data, states, error_units(data, _field_units(schema)),
+                    _declared_groups(schema), plt)
+
+
+def _figures(data: dict, states: StateBands, units: dict, declared: dict, plt):
     for name, (prefix, label) in FIGURES.items():
         if label is None:
             panels = [(ERROR_PANELS[unit], [c for c, u in units.items() if u == unit])
@@ -269,14 +299,13 @@ class StateBands:
         self.plt = plt
         self.time = time
         step = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
-        self.end = float(time[-1]) + step if len(time) else 0.0
+        self.end = float(time[-1]) + (step if step > 0 else UNKNOWN_STEP)
         self.final = final
         self.rows = machine_rows(list(dict.fromkeys(configurations)))
         self.spans = {machine: self._spans(configurations, machine) for machine in self.rows}
-        final_name = final[0].split("/")[0] if final else None
         self.names = list(dict.fromkeys(
-            name for spans in self.spans.values() for name, start, end in spans
-            if end > start and name != final_name))
+            name for machine, spans in self.spans.items() for name, start, end in spans
+            if not self._is_final(machine, name, end)))
         palette = panel_colours(len(self.names), plt)
         self.colours = dict(zip(self.names, palette))
 
