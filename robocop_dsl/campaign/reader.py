@@ -7,6 +7,7 @@ are checked against the worlds by :mod:`.checker`.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from ..diagnostics import DiagnosticError, SourceFile, Span, did_you_mean, sort_key
@@ -86,7 +87,7 @@ class _Reader:
         vary = self.mapping(data, "vary") or YamlMap()
         self.keys(vary, VARY_KEYS)
         settings, settings_where = self.settings(data)
-        name = self.string(data, "campaign", path.name.split(".")[0])
+        name = self.name(data, path.name.split(".")[0])
         return CampaignSpec(
             name=name, path=path, description=self.string(data, "description", ""),
             missions=tuple(self.missions(data)), variants=tuple(self.variants(data)),
@@ -107,6 +108,18 @@ class _Reader:
             return default
         return value
 
+    def name(self, data: YamlMap, default: str) -> str:
+        """``campaign``: it names the default results file, so it is a file name."""
+        name = self.string(data, "campaign", default)
+        if name == default:
+            return name
+        if name in (".", "..") or any(c in "/\\" or not c.isprintable() for c in name):
+            self.error("wrong-value", f"campaign name {name!r} cannot name a file",
+                       data.value_span("campaign"), "no '/', '\\' or control "
+                       "character, and not '.' or '..': e.g. 'pickup_workbench'")
+            return default
+        return name
+
     def samples(self, data: YamlMap, settings: dict) -> int:
         """``samples``, at most :data:`MAX_SAMPLES`, and the jobs they make at most
         :data:`MAX_JOBS`."""
@@ -116,8 +129,8 @@ class _Reader:
                        data.value_span("samples"), "split the campaign, or draw fewer "
                        "samples: the success rate's interval narrows as 1/sqrt(samples)")
             return 1
-        missions = max(len(data.get("missions") or ()), 1)
-        variants = max(len(data.get("variants") or ()), 1)
+        missions = _count(data.get("missions"))
+        variants = _count(data.get("variants"))
         combinations = 1
         for values in settings.values():
             combinations *= max(len(values), 1)
@@ -222,6 +235,8 @@ class _Reader:
             if isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or seconds <= 0:
                 self.error("wrong-value", "'time_step' must be a positive duration", span,
                            "e.g. '5ms'")
+            elif not _finite(seconds):
+                self.error("wrong-value", "'time_step' must be finite", span, "e.g. '5ms'")
             return seconds
         if key == "hierarchy" and value not in HIERARCHIES:
             self.error("unknown-hierarchy", f"unknown hierarchy '{value}'", span,
@@ -339,6 +354,10 @@ class _Reader:
             self.error("wrong-value", f"'{key}' must be a number or a list of numbers",
                        mapping.value_span(key))
             return None
+        if not all(_finite(v) for v in items):
+            self.error("wrong-value", f"'{key}' must be finite", mapping.value_span(key),
+                       "a number within the float range, not .nan or .inf")
+            return None
         if size is not None and len(items) not in (1, size):
             self.error("wrong-value", f"'{key}' needs {size} values (x, y, z in metres)"
                        if size == 3 else f"'{key}' is one number", mapping.value_span(key))
@@ -350,6 +369,19 @@ class _Reader:
 
 def _is_number(value) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _finite(value) -> bool:
+    """Whether the number ``value`` is finite as a float."""
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
+
+
+def _count(value) -> int:
+    """Entries of a list or mapping, 1 for anything else (reported elsewhere)."""
+    return max(len(value), 1) if isinstance(value, (YamlList, YamlMap)) else 1
 
 
 def _descending(low: tuple, high: tuple) -> bool:
