@@ -12,13 +12,14 @@ from .engine import DaskEngine, SerialEngine, open_engine, sweep
 from .jobs import Campaign, Job, load_campaign
 from .pool import PoolEngine, WorkerStartError
 from .reader import read_campaign
-from .results import comparable, read_results, results_table, write_results
+from .results import OutputError, check_output, comparable, is_results_table, read_results, \
+    results_table, write_results
 from .sampling import Conditions, draw_conditions
 from .summary import print_summary, rerun_command
 from .worker import PreparedRun, WorkerCache, prepare, run_job
 
-__all__ = ["Campaign", "Conditions", "DaskEngine", "Job", "PoolEngine", "PreparedRun",
-           "SerialEngine", "WorkerCache", "WorkerStartError", "comparable",
-           "draw_conditions", "load_campaign", "open_engine", "prepare", "print_summary",
-           "read_campaign", "read_results", "rerun_command", "results_table", "run_job",
-           "sweep", "write_results"]
+__all__ = ["Campaign", "Conditions", "DaskEngine", "Job", "OutputError", "PoolEngine",
+           "PreparedRun", "SerialEngine", "WorkerCache", "WorkerStartError", "check_output",
+           "comparable", "draw_conditions", "is_results_table", "load_campaign",
+           "open_engine", "prepare", "print_summary", "read_campaign", "read_results",
+           "rerun_command", "results_table", "run_job", "sweep", "write_results"]

@@ -36,11 +36,15 @@ class SerialEngine:
         self.startup = time.perf_counter() - started
 
     def run(self, execute: Callable, jobs) -> Iterator[dict]:
+        """Yield the row of each job; Ctrl-C, which the job's run caught (its outcome
+        ``interrupted``), raises ``KeyboardInterrupt`` instead of its row."""
         for job in jobs:
             try:
                 row = execute(job)
             except Exception as error:
                 row = failed_row(job, error)
+            if row.get("outcome") == "interrupted":
+                raise KeyboardInterrupt
             yield row
 
 

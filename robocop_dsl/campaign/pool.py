@@ -7,10 +7,11 @@ runs jobs one after the other until the sweep ends. A job then costs its worker 
 job alone: the job and its row cross a pipe, a few hundred bytes each way. Nothing
 listens on the network (the fork server's socket is a file in a private folder).
 
-Workers ignore Ctrl-C: the sweeping process stops them (SIGTERM). A worker that dies (a crash
-in a native library, the kernel killing it) takes the pool down with it: the pool is
-started again and the unfinished jobs are sent again; a job that was running when
-its worker died :data:`ATTEMPTS` times is recorded as an ``error``.
+Workers ignore Ctrl-C: the sweeping process stops them (SIGTERM) when Ctrl-C or SIGTERM
+ends the sweep. A worker that dies (a crash in a native library, the kernel killing
+it) takes the pool down with it: the pool is started again and the unfinished jobs are
+sent again; a job that was running when its worker died :data:`ATTEMPTS` times is
+recorded as an ``error``.
 """
 
 from __future__ import annotations
@@ -88,7 +89,7 @@ class PoolEngine:
             forkserver.ensure_running()
         deadline = time.monotonic() + STARTUP_TIMEOUT
         try:
-            with _ctrl_c_held():  # a worker half forked would be left behind
+            with _signals_held(signal.SIGINT, signal.SIGTERM):  # no worker half forked
                 pings = [self._pool.submit(os.getpid) for _ in range(self.workers)]
             while self._ready.value < self.workers:
                 failed = next((f.exception() for f in pings if f.done() and f.exception()),
@@ -157,33 +158,37 @@ class PoolEngine:
 
 @contextmanager
 def _ctrl_c_ignored():
-    """Ignore SIGINT meanwhile (from the main thread only; processes started inherit
-    it). The fork server is started so: Ctrl-C reaches the sweeping process alone."""
-    with _sigint(signal.SIG_IGN):
+    """Ignore SIGINT and hold SIGTERM meanwhile (from the main thread only; processes
+    started inherit the first). The fork server is started so: Ctrl-C reaches the
+    sweeping process alone, and no signal leaves the fork server half started."""
+    with _signals_held(signal.SIGTERM), _handled(signal.SIG_IGN, signal.SIGINT):
         yield
 
 
 @contextmanager
-def _ctrl_c_held():
-    """Hold SIGINT meanwhile (from the main thread only) and raise it after."""
+def _signals_held(*numbers):
+    """Hold the signals ``numbers`` meanwhile (from the main thread only) and raise
+    them after, to their own handlers."""
     caught = []
-    with _sigint(lambda *_: caught.append(True)):
+    with _handled(lambda number, frame: caught.append(number), *numbers):
         yield
-    if caught:
-        raise KeyboardInterrupt
+    for number in dict.fromkeys(caught):
+        signal.raise_signal(number)
 
 
 @contextmanager
-def _sigint(handler):
-    """``handler`` for SIGINT meanwhile, when called from the main thread."""
+def _handled(handler, *numbers):
+    """``handler`` for the signals ``numbers`` meanwhile, when called from the main
+    thread."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = signal.signal(signal.SIGINT, handler)
+    previous = {number: signal.signal(number, handler) for number in numbers}
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, signal.SIG_DFL if previous is None else previous)
+        for number, handler in previous.items():
+            signal.signal(number, signal.SIG_DFL if handler is None else handler)
 
 
 def _terminate(pid: int) -> None:

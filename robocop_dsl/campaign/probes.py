@@ -38,6 +38,10 @@ class Budget(Observer):
         self.exceeded: BudgetExceeded | None = None
         self._runner = None
 
+    def expire(self) -> None:
+        """End the budget now: the run stops at its next cycle."""
+        self.deadline = -math.inf
+
     def check(self) -> None:
         if time.perf_counter() > self.deadline:
             raise BudgetExceeded(self.seconds)

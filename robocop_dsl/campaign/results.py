@@ -21,10 +21,13 @@ The file's metadata keeps the campaign's name, path, seed and sample count.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pyarrow as pa
 import pyarrow.parquet as pq
+
+from ..diagnostics import RobocopError
 
 COLUMNS = (
     ("job", pa.int64()), ("mission", pa.string()), ("variant", pa.string()),
@@ -53,12 +56,67 @@ def results_table(rows: list, metadata: dict | None = None) -> pa.Table:
     return pa.table(data, schema=schema)
 
 
+class OutputError(RobocopError):
+    """The results table cannot be written where asked."""
+
+
+def check_output(path: str | Path, replace: bool = False) -> Path:
+    """Make sure a results table can be written at ``path``, before any job runs: its
+    folder is made and written to, and a file already there is a results table (see
+    :func:`is_results_table`) or ``replace`` allows writing over it.
+
+    Raises:
+        OutputError: why it cannot be written.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise OutputError("it is a folder")
+    if path.exists() or path.is_symlink():
+        if not path.is_file():
+            raise OutputError("it is not a regular file")
+        if not replace and not is_results_table(path):
+            raise OutputError("the file exists and is not a results table: give "
+                              "--replace to write over it")
+    folder = next((p for p in path.parents if p.exists()), None)
+    if folder is not None and not folder.is_dir():
+        raise OutputError(f"'{folder}' is not a folder")
+    probe = _temporary(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        probe.open("xb").close()
+        probe.unlink()
+    except OSError as error:
+        raise OutputError(error.strerror or str(error)) from None
+    return path
+
+
+def is_results_table(path: str | Path) -> bool:
+    """Whether ``path`` is a Parquet file with the results table's columns and a
+    campaign in its metadata: what :func:`write_results` writes."""
+    try:
+        schema = pq.read_schema(path)
+    except (OSError, ValueError, pa.ArrowException):
+        return False
+    return b"campaign" in (schema.metadata or {}) and set(dict(COLUMNS)) <= set(schema.names)
+
+
 def write_results(table: pa.Table, path: str | Path) -> Path:
-    """Write ``table`` as Parquet at ``path`` (folders created); return the path."""
+    """Write ``table`` as Parquet at ``path`` (folders created); return the path. It is
+    written beside it first, so a file already there is only ever replaced whole."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    pq.write_table(table, path)
+    temporary = _temporary(path)
+    try:
+        pq.write_table(table, temporary)
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
     return path
+
+
+def _temporary(path: Path) -> Path:
+    """A hidden file beside ``path``, of this process."""
+    return path.with_name(f".{path.name}.{os.getpid()}.tmp")
 
 
 def read_results(path: str | Path) -> pa.Table:

@@ -12,6 +12,7 @@ from collections import Counter
 from pathlib import Path
 
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 SHOWN = 10
@@ -71,11 +72,13 @@ def _failure(console: Console, row: dict, varied: list, command: str) -> None:
     settings = "".join(f", {name} {row[name]}" for name in varied)
     where = (f" in state {row['final_state']} at {row['mission_time']:.3f} s"
              if row.get("final_state") else "")
-    console.print(f"job {row['job']}: {row['mission']} on {row['variant']}{settings}, sample "
-                  f"{row['sample']}: [{colour}]{row['outcome']}[/]{where}", soft_wrap=True)
-    console.print(f"  conditions: {_conditions(row)}", soft_wrap=True)
+    console.print(escape(f"job {row['job']}: {row['mission']} on {row['variant']}{settings}, "
+                         f"sample {row['sample']}: ") + f"[{colour}]{row['outcome']}[/]"
+                  + escape(where), soft_wrap=True)
+    console.print(f"  conditions: {_conditions(row)}", markup=False, soft_wrap=True)
     console.print(f"  closest limit: {_limit(row)}; worst task error at the end: "
-                  f"{_number(row.get('worst_task_error'), '.6f')}", soft_wrap=True)
+                  f"{_number(row.get('worst_task_error'), '.6f')}", markup=False,
+                  soft_wrap=True)
     if row.get("message"):
         console.print(f"  reason: {row['message']}", markup=False, soft_wrap=True)
     console.print(f"  rerun: {command}", markup=False, soft_wrap=True)
@@ -96,7 +99,7 @@ def _rates(rows: list, varied: list) -> Table:
         colour = "green" if rate == 1 else "red" if rate < 0.5 else "yellow"
         others = ", ".join(f"{n} {o}" for o, n in sorted(counts.items()) if o != "success")
         low, high = wilson_interval(counts["success"], total)
-        table.add_row(*map(str, key), str(total),
+        table.add_row(*(escape(str(value)) for value in key), str(total),
                       f"[{colour}]{counts['success']} ({rate:.0%})[/]",
                       f"{low:.0%} to {high:.0%}", others or "-")
     return table

@@ -132,24 +132,31 @@ def run_job(job, cache: WorkerCache = PROCESS_CACHE) -> dict:
 
     A job with a budget runs in a thread of its own; one that has not returned
     :data:`GRACE` seconds after its budget is recorded as ``timeout`` and left behind.
+    Ctrl-C meanwhile stops its run before ``KeyboardInterrupt`` goes on.
     """
+    budget = Budget(job.time_budget, time.perf_counter())
     if job.time_budget is None:
-        return _run(job, cache)
+        return _run(job, cache, budget)
     box: dict = {}
-    thread = threading.Thread(target=lambda: box.update(row=_run(job, cache)), daemon=True,
-                              name=f"campaign-job-{job.index}")
+    thread = threading.Thread(target=lambda: box.update(row=_run(job, cache, budget)),
+                              daemon=True, name=f"campaign-job-{job.index}")
     thread.start()
-    thread.join(job.time_budget + GRACE)
+    try:
+        thread.join(job.time_budget + GRACE)
+    except KeyboardInterrupt:
+        budget.expire()
+        thread.join(GRACE)
+        raise
     if "row" in box:
         return box["row"]
     return {**job_row(job), "outcome": "timeout", "wall_time": job.time_budget + GRACE,
             "message": f"did not return within {job.time_budget + GRACE:g} s; abandoned"}
 
 
-def _run(job, cache: WorkerCache) -> dict:
+def _run(job, cache: WorkerCache, budget: Budget) -> dict:
     started = time.perf_counter()
     row = job_row(job)
-    budget, probe, runner = Budget(job.time_budget, started), Probe(), None
+    probe, runner = Probe(), None
     try:
         prepared = prepare(job, cache)
         runner = prepared.runner
