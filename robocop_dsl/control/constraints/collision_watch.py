@@ -88,8 +88,9 @@ class CollisionWatch:
         """What the last look at a state found."""
         self._found: tuple | None = None
         """The pairs within influence, their rows and damper offsets [m/s]."""
-        self._bounded_for: tuple = (None, None)
-        """The velocity and acceleration limits :attr:`seen`'s bounds were computed with."""
+        self._bounded_for: tuple = (None, None, b"")
+        """The velocity and acceleration limits :attr:`seen`'s bounds were computed with
+        (the arrays, and their values as bytes)."""
 
     def add(self, owner, pairs: list[tuple[str, str]]) -> int:
         """Watch ``pairs`` of bodies for ``owner`` (a constraint with ``enabled``,
@@ -140,11 +141,10 @@ class CollisionWatch:
         were computed with (the configuration can stay while they change: a new
         command, a new table of limits)."""
         state = self.state
-        velocity, acceleration = self._bounded_for
+        velocity, acceleration, values = self._bounded_for
         if state.velocity is velocity and state.max_acceleration is acceleration:
             return False
-        return not (np.array_equal(state.velocity, velocity)
-                    and np.array_equal(state.max_acceleration, acceleration))
+        return state.velocity.tobytes() + state.max_acceleration.tobytes() != values
 
     def _look(self, key: tuple) -> None:
         """Every owner's pairs within influence at the current state, rows and bounds
@@ -181,7 +181,8 @@ class CollisionWatch:
         """The damper and viable bounds of the pairs found, at the state's velocity and
         acceleration limits."""
         state = self.state
-        self._bounded_for = (state.velocity, state.max_acceleration)
+        self._bounded_for = (state.velocity, state.max_acceleration,
+                             state.velocity.tobytes() + state.max_acceleration.tobytes())
         if self._found is None:
             return
         nearby, rows, damper = self._found
