@@ -52,6 +52,15 @@ def kind_of(path: str | Path) -> tuple[str, ...] | None:
     return next((kind for kind in _BREAKS if suffix in kind), None)
 
 
+def not_a_file(path: str | Path) -> str | None:
+    """Why ``path`` names no file to read (``no such file``, ``not a regular file``: a
+    folder, a device), or ``None`` when it names one."""
+    name = Path(path)
+    if name.is_file():
+        return None
+    return "not a regular file" if name.exists() else "no such file"
+
+
 def refusal(path: str | Path, kind: tuple[str, ...]) -> str | None:
     """Why ``path`` may not be read as a file of ``kind``, or ``None`` when it may.
 

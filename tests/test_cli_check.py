@@ -102,6 +102,19 @@ def test_usage_errors_exit_two(capsys):
     assert check(str(REPO / "missions" / "pickup.mission"), "--format", "xml") == 2
 
 
+@pytest.mark.parametrize("command, name", [("check", "missions"), ("graph", "missions"),
+                                           ("graph", "/dev/null"),
+                                           ("sweep", "missions")])
+def test_a_folder_or_a_device_is_not_a_file_to_read(command, name):
+    """A folder or a device named as a mission or a campaign is said to be what it is
+    (not a missing file), without a traceback."""
+    done = subprocess.run([sys.executable, "-m", "robocop_dsl", command, name],
+                          capture_output=True, text=True, cwd=REPO)
+    assert done.returncode == 2
+    assert "not a regular file" in done.stderr + done.stdout
+    assert "no such file" not in done.stderr and "Traceback" not in done.stderr
+
+
 @pytest.mark.parametrize("name, code", [("pickup.mission", 0), ("missing.mission", 2)])
 def test_from_a_real_process(name, code):
     """Run as a process: exit code and output as a shell sees them."""

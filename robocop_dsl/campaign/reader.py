@@ -11,6 +11,7 @@ import math
 from pathlib import Path
 
 from ..diagnostics import DiagnosticError, SourceFile, Span, did_you_mean, sort_key
+from ..sources import not_a_file
 from ..world.description import to_seconds
 from ..world.yaml_source import YamlList, YamlMap, parse_yaml
 from .spec import SETTINGS, BodyMove, CampaignSpec, MissionEntry, Normal, PhysicsNoise, \
@@ -39,9 +40,10 @@ def read_campaign(path: str | Path) -> CampaignSpec:
         DiagnosticError: every problem found, each located in the file.
     """
     path = Path(path)
-    if not path.is_file():
+    problem = not_a_file(path)
+    if problem:
         raise DiagnosticError([SourceFile(str(path), "").error(
-            "unreadable-file", f"cannot find campaign file '{path}'", None)])
+            "unreadable-file", f"cannot read campaign file '{path}': {problem}", None)])
     source = SourceFile.read(path)
     reader = _Reader(source)
     spec = reader.campaign(_load(source), path.resolve())

@@ -11,9 +11,9 @@ import dataclasses
 import gc
 import json
 import sys
-from pathlib import Path
 
 from ..diagnostics import ERROR, Diagnostic
+from ..sources import not_a_file
 
 FORMATS = ("text", "json", "github")
 
@@ -84,10 +84,9 @@ def run(args) -> int:
     """Check every file; exit 1 when any has an error."""
     from ..compile import WorldCache, check_file
 
-    missing = [f for f in args.files if not Path(f).is_file()]
+    missing = [(name, not_a_file(name)) for name in args.files if not_a_file(name)]
     if missing:
-        for name in missing:
-            problem = "not a regular file" if Path(name).exists() else "no such file"
+        for name, problem in missing:
             print(f"robocop-mission check: error: {problem}: {name}", file=sys.stderr)
         return 2
     cache = WorldCache()

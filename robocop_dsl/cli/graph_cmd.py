@@ -6,7 +6,8 @@ Exit codes: 0 printed, 1 the mission has errors (printed on stderr), 2 usage err
 from __future__ import annotations
 
 import sys
-from pathlib import Path
+
+from ..sources import not_a_file
 
 
 def add_parser(subparsers) -> None:
@@ -23,8 +24,9 @@ def add_parser(subparsers) -> None:
 def run(args) -> int:
     from ..compile import check_file, to_dot, to_mermaid
 
-    if not Path(args.file).is_file():
-        print(f"robocop-mission graph: error: no such file: {args.file}", file=sys.stderr)
+    problem = not_a_file(args.file)
+    if problem:
+        print(f"robocop-mission graph: error: {problem}: {args.file}", file=sys.stderr)
         return 2
     result = check_file(args.file)
     for diagnostic in result.diagnostics:
