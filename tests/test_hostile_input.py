@@ -84,6 +84,23 @@ def test_devices_and_system_files_are_not_read(tmp_path, device):
     assert "root:" not in done.stdout
 
 
+@pytest.mark.parametrize("entry, name", [("path: /bin/ls", "URDF '/bin/ls'"),
+                                         ("path: robocop/point.urdf\n    srdf: /etc/passwd",
+                                          "SRDF '/etc/passwd'")])
+def test_a_model_file_that_is_not_one_is_refused_where_the_world_names_it(
+        tmp_path, entry, name):
+    """A world's model or SRDF that cannot be read as one is an error at the line of
+    the world file that names it, and nothing of it is quoted."""
+    (tmp_path / "world.yaml").write_text(f"models:\n  - include: {BAZAR}\n"
+                                         f"  - namespace: p1\n    {entry}\n")
+    (tmp_path / "m.mission").write_text(mission("world.yaml"))
+    done = check_cli("--format", "json", str(tmp_path / "m.mission"))
+    [bad] = [d for d in only_located(done) if d["code"] == "unreadable-file"]
+    assert bad["file"] == str(tmp_path / "world.yaml") and bad["span"]["line"] >= 4
+    assert bad["message"].startswith(f"cannot read {name}:")
+    assert "root:" not in done.stdout and "ELF" not in done.stdout
+
+
 def test_a_fifo_named_world_yaml_is_refused_without_opening_it(tmp_path):
     os.mkfifo(tmp_path / "world.yaml")
     (tmp_path / "m.mission").write_text(mission("world.yaml"))

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..diagnostics import Diagnostic, DiagnosticError, SourceFile, Span, did_you_mean
-from ..sources import WORLD, refusal
+from ..sources import URDF, WORLD, refusal
 from . import paths
 from .yaml_source import YamlList, YamlMap, load_yaml
 
@@ -235,15 +235,26 @@ class _Reader:
             self.out.diagnostics.append(at.error(
                 "urdf-not-found", f"cannot find URDF '{name}'", _looked_in(Path(source.path).parent)))
             return
+        refused = refusal(urdf, URDF)
+        if refused:
+            self.out.diagnostics.append(at.error(
+                "unreadable-file", f"cannot read URDF '{name}': {refused}"))
+            return
         joint = self._joint(source, entry.get("joint"), entry, outer)
         free = self._free(source, entry, joint)
         srdf = None
         if "srdf" in entry:
             srdf = paths.resolve(str(entry["srdf"]), Path(source.path).parent)
+            refused = srdf is not None and refusal(srdf, URDF)
             if srdf is None:
                 self.out.diagnostics.append(source.error(
                     "urdf-not-found", f"cannot find SRDF '{entry['srdf']}'",
                     entry.value_span("srdf"), _looked_in(Path(source.path).parent)))
+            elif refused:
+                self.out.diagnostics.append(source.error(
+                    "unreadable-file", f"cannot read SRDF '{entry['srdf']}': {refused}",
+                    entry.value_span("srdf")))
+                srdf = None
         self.out.models.append(ModelEntry(urdf, inner, joint, at, srdf, free))
 
     def _free(self, source, entry: YamlMap, joint: JointSpec) -> bool:
