@@ -125,6 +125,28 @@ final done
     assert len(read_timeseries(tmp_path / "log")["time"]) == 2
 
 
+def test_a_target_that_is_not_finite_is_a_fault_that_shows_the_values(tmp_path):
+    """A var used before it is assigned makes a target of NaN: the fault says which
+    values, as written in a mission (no numpy text)."""
+    path = write(tmp_path, """
+task tool: body_pose(bazar_left_hankamp_tool_object_side) { reference = world }
+var z: length
+state hold {
+    enter {
+        enable tool
+        tool.target = pickup_point offset [0, 0, z]
+    }
+    when elapsed > 1 s -> done
+}
+final done
+""")
+    done = robocop("run", path)
+    assert done.returncode == 3
+    assert "invalid target offset [0.0, 0.0, nan]: expected finite numbers" in \
+        " ".join(done.stdout.split())
+    assert "array(" not in done.stdout + done.stderr
+
+
 def test_duration_caps_mission_time():
     done = robocop("run", "missions/pickup.mission", "--duration", "1")
     assert done.returncode == 1

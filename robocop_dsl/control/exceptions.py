@@ -94,7 +94,8 @@ class InvalidParameter(ControlError):
         self.parameter = parameter
         self.value = value
         self.expected = expected
-        super().__init__(f"{owner}: invalid {parameter} {value!r}: expected {expected}")
+        shown = value.tolist() if hasattr(value, "tolist") else value   # numpy: as a list
+        super().__init__(f"{owner}: invalid {parameter} {shown!r}: expected {expected}")
 
 
 class JointGroupOutsideController(ControlError):
