@@ -22,6 +22,7 @@ import threading
 
 from ..diagnostics import DiagnosticError, render_all
 from .events import scheduled_event
+from .stop_signals import StopSignals
 
 DEFAULT_ADDRESS = "127.0.0.1:8765"     # of --foxglove
 
@@ -91,7 +92,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    with StopSignals() as signals:
+    with RunStopSignals() as signals:
         log = None
         if args.log:
             from ..ecosystem.log_process import LogProcess
@@ -218,48 +219,20 @@ def _run(args, signals, log) -> int:
     return EXIT_CODES[result.outcome]
 
 
-class StopSignals:
-    """While entered, SIGINT and SIGTERM stop the run instead of raising: one received
-    before the runner exists stops it as soon as it is attached. The previous handlers
-    come back on exit.
-
-    Attributes:
-        received: The first signal's number, or ``None``.
-    """
-
-    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+class RunStopSignals(StopSignals):
+    """SIGINT and SIGTERM stop the run instead of raising: one received before the
+    runner exists stops it as soon as it is attached."""
 
     def __init__(self):
-        self.received: int | None = None
+        super().__init__()
         self._runner = None
-        self._previous: dict = {}
-
-    def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
-            for number in self.SIGNALS:
-                self._previous[number] = signal.signal(number, self._handle)
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.release()
-
-    def release(self) -> None:
-        """Give the signals their previous handlers back (again: nothing)."""
-        for number, handler in self._previous.items():
-            signal.signal(number, handler)
-        self._previous = {}
 
     def attach(self, runner) -> None:
         """Stop ``runner`` on a signal (at once if one came already)."""
         self._runner = runner
-        self._stop()
+        self.stop()
 
-    def _handle(self, number: int, frame) -> None:
-        if self.received is None:
-            self.received = number
-            self._stop()
-
-    def _stop(self) -> None:
+    def stop(self) -> None:
         if self._runner is not None and self.received is not None:
             name = signal.Signals(self.received).name
             self._runner.stop(f"interrupted by {name}")

@@ -14,12 +14,12 @@ from __future__ import annotations
 import os
 import signal
 import sys
-import threading
 import time
 from contextlib import ExitStack
 from pathlib import Path
 
 from ..diagnostics import DiagnosticError, render_all
+from .stop_signals import StopSignals
 
 
 def add_parser(subparsers) -> None:
@@ -48,7 +48,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    with StopSignals() as signals:
+    with SweepStopSignals() as signals:
         try:
             return _sweep(args, signals)
         except KeyboardInterrupt:
@@ -133,35 +133,19 @@ def cpu_count() -> int:
         return os.cpu_count() or 1
 
 
-class StopSignals:
-    """While entered, the first SIGINT or SIGTERM is recorded and, while ``armed``,
-    raised as ``KeyboardInterrupt`` (which stops the sweep); later ones change nothing.
-    The previous handlers come back on exit.
+class SweepStopSignals(StopSignals):
+    """The first SIGINT or SIGTERM, while ``armed``, raises ``KeyboardInterrupt``
+    (which stops the sweep).
 
     Attributes:
-        received: The first signal's number, or ``None``.
         armed: Whether a signal raises; cleared once the sweep ended, so that the
             finished jobs are written whatever comes.
     """
 
-    SIGNALS = (signal.SIGINT, signal.SIGTERM)
-
     def __init__(self):
-        self.received: int | None = None
+        super().__init__()
         self.armed = True
-        self._previous: dict = {}
 
-    def __enter__(self) -> "StopSignals":
-        if threading.current_thread() is threading.main_thread():
-            self._previous = {n: signal.signal(n, self._handle) for n in self.SIGNALS}
-        return self
-
-    def __exit__(self, *exc) -> None:
-        for number, handler in self._previous.items():
-            signal.signal(number, handler)
-
-    def _handle(self, number: int, frame) -> None:
-        if self.received is None:
-            self.received = number
-            if self.armed:
-                raise KeyboardInterrupt
+    def stop(self) -> None:
+        if self.armed:
+            raise KeyboardInterrupt

@@ -556,8 +556,9 @@ def _is_event(event) -> bool:
     if not isinstance(event, dict):
         return False
     kind, time, cycle = event.get("kind"), event.get("time"), event.get("cycle")
-    return (isinstance(kind, str) and isinstance(cycle, int) and cycle >= 0
-            and isinstance(time, (int, float)) and 0 <= time < LATEST
+    (first, _), (start, end) = RANGES["cycle"], RANGES["time"]
+    return (isinstance(kind, str) and isinstance(cycle, int) and cycle >= first
+            and isinstance(time, (int, float)) and start <= time < end
             and not isinstance(time, bool))
 
 
