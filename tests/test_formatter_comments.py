@@ -51,6 +51,19 @@ def test_placement():
         "state s {  # loops\n    when t.reached -> s\n}\n# the end\n")
 
 
+def test_comment_inside_a_one_line_block_stays_after_its_code():
+    """A comment after the first row of a vector opened in a one-line block ends that
+    row, not the block's header; one after a block closed on its line ends the header."""
+    text = ("mission m\nworld \"w.yaml\"\nstate s {\n"
+            "    enter { t.target = [1,  # first\n        2] rad }\n"
+            "    during { enable t }  # keep\n}\n")
+    out = formatted(text)
+    assert out == ("mission m\nworld \"w.yaml\"\nstate s {\n    enter {\n"
+                   "        t.target = [1,  # first\n                    2] rad\n    }\n"
+                   "    during { enable t }  # keep\n}\n")
+    assert formatted(out) == out
+
+
 def test_hash_in_string_is_no_comment():
     """A ``#`` inside a string is text, not a comment."""
     text = 'mission m "pick #3"  # third\nworld "w.yaml"\nstate s {\n  enter { log "#1" }\n}\n'

@@ -231,7 +231,7 @@ def with_comments(lines: list[Line], source: list[str], found: list[Comment],
     trailing: dict[int, list[Comment]] = {}
     leading: dict[int, list[Comment]] = {}
     for comment in found:
-        owner = _owner(lines, comment.line) if comment.after_code else None
+        owner = _owner(lines, comment.line, source) if comment.after_code else None
         if owner is None:
             index = next((i for i, line in enumerate(lines) if line.origin > comment.line),
                          len(lines))
@@ -264,14 +264,19 @@ def _own_column(comment: Comment, source: list[str], code: int) -> int:
     return max(code + 2, comment.column) if spaced else code + 2
 
 
-def _owner(lines: list[Line], number: int) -> int | None:
+def _owner(lines: list[Line], number: int, source: list[str]) -> int | None:
     """The output line that a comment after code on source line ``number`` ends: the
-    first printed from the nearest source line at or before it."""
+    first printed from the nearest source line at or before it, or the last with code
+    other than a closing brace when that source line leaves a bracket or a block open
+    (the comment followed what goes on on the next line)."""
     origins = [line.origin for line in lines if 0 < line.origin <= number]
     if not origins:
         return None
     nearest = max(origins)
-    return next(i for i, line in enumerate(lines) if line.origin == nearest)
+    printed = [i for i, line in enumerate(lines) if line.origin == nearest]
+    if code_of(source[nearest - 1]).rstrip().endswith("}"):
+        return printed[0]
+    return next((i for i in reversed(printed) if lines[i].text.strip() != "}"), printed[0])
 
 
 def _comment_columns(lines: list[Line], trailing: dict[int, list[Comment]],
