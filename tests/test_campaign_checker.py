@@ -88,3 +88,34 @@ def test_an_invalid_mission_stops_the_campaign(tmp_path):
     found = diagnostics(campaign(tmp_path, "missions: [broken.mission]\n"))
     assert found and all(d.file == str(broken) for d in found)
     assert any("left_tol" in d.message for d in found)
+
+
+def test_a_mission_that_loads_on_some_variants_only_names_the_others(tmp_path):
+    """The variant a mission does not load on is named in the campaign file; the
+    mission's errors on it follow, located in the mission file."""
+    path = campaign(tmp_path, f"""
+        missions: [{PICKUP}]
+        variants:
+          sophia: bazar/sophia.yaml
+          cell: bazar/workcell.yaml
+        """)
+    found = diagnostics(path)
+    named = [(d.code, d.span.line, d.message) for d in found if d.file == str(path)]
+    assert named == [("mission-error", 4, f"mission '{PICKUP}' does not load on world "
+                      "variant 'cell'")]
+    assert any(d.code == "unknown-body" and "kinect2_rgb_optical_frame" in d.message
+               and d.file == str(PICKUP) for d in found)
+
+
+def test_a_mission_broken_alike_on_every_variant_names_none(tmp_path):
+    """A mission error that does not depend on the world is the mission's alone."""
+    broken = tmp_path / "broken.mission"
+    broken.write_text(PICKUP.read_text().replace("enable left_tool", "enable left_tol"),
+                      encoding="utf-8")
+    found = diagnostics(campaign(tmp_path, """
+        missions: [broken.mission]
+        variants:
+          one: bazar/sophia.yaml
+          two: bazar/sophia_seat.yaml
+        """))
+    assert found and all(d.file == str(broken) for d in found)

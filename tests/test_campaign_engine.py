@@ -133,6 +133,7 @@ def test_serial_campaign_runs_the_real_mission(serial_table):
     rows = serial_table.to_pylist()
     assert [(r["job"], r["mission"], r["variant"], r["sample"]) for r in rows] == [
         (0, "pickup", "sophia", 0), (1, "pickup", "sophia", 1), (2, "pickup", "sophia", 2)]
+    assert {r["mission_file"] for r in rows} == {str(MISSIONS / "pickup.mission")}
     assert {r["outcome"] for r in rows} == {"success"}
     assert all(r["final_state"] == "done" and r["cycles"] > 100 for r in rows)
     assert all(0 <= r["min_limit_margin"] < 3 and r["limit_joint"] for r in rows)

@@ -73,12 +73,25 @@ class _Checker:
                     self.worlds.setdefault(_stem(world.path), world)
                     result.append(Pairing(str(path), mission.name, _stem(world.path),
                                           str(Path(world.path).resolve()), entry))
+            failed: dict = {}
             for variant, world in variants:
-                mission = self.load(path, world) if world is not None else None
+                mission = self.load(path, world, failed, variant) if world is not None \
+                    else None
                 if mission is not None:
                     result.append(Pairing(str(path), mission.name, variant.name,
                                           str(Path(world.path).resolve()), entry))
+            self.name_variants(entry, failed, len(variants))
         return result
+
+    def name_variants(self, entry: MissionEntry, failed: dict, variants: int) -> None:
+        """Say on which world variants a mission does not load, when that depends on
+        the variant: it loads on some, or not for the same reasons on all."""
+        if not failed or (len(failed) == variants and len(set(failed.values())) == 1):
+            return
+        for variant in failed:
+            self.diagnostics.append(variant.where.error(
+                "mission-error", f"mission '{entry.path}' does not load on world variant "
+                f"'{variant.name}'", "see the errors reported in the mission file"))
 
     def mission_path(self, entry: MissionEntry) -> Path | None:
         path = entry.path if entry.path.is_absolute() else self.spec.folder / entry.path
@@ -103,11 +116,15 @@ class _Checker:
         self.worlds[variant.name] = world
         return world
 
-    def load(self, path: Path, world):
+    def load(self, path: Path, world, failed: dict | None = None, variant=None):
+        """The mission at ``path`` on ``world`` (its own when ``None``), or ``None``: its
+        problems are reported, and kept in ``failed`` by ``variant`` when given."""
         try:
             return self.load_mission(path, world=world)
         except DiagnosticError as error:
             self.diagnostics.extend(error.diagnostics)
+            if failed is not None:
+                failed[variant] = frozenset(d for d in error.diagnostics if d.is_error)
             return None
 
     def names(self) -> None:

@@ -26,6 +26,7 @@ class Job:
         index: Place in the campaign, from 0.
         mission: Absolute path of the ``.mission`` file.
         mission_name: The name the mission declares.
+        mission_file: The mission file's path as the campaign names it.
         variant: The world variant's name.
         world: Absolute path of the variant's world file.
         sample: Which sample of the random conditions, from 0.
@@ -42,6 +43,7 @@ class Job:
     index: int
     mission: str
     mission_name: str
+    mission_file: str
     variant: str
     world: str
     sample: int
@@ -116,6 +118,7 @@ def expand(spec: CampaignSpec, pairings) -> list:
             for sample in range(spec.samples):
                 jobs.append(Job(
                     index=len(jobs), mission=pairing.mission, mission_name=pairing.mission_name,
+                    mission_file=entry.path.as_posix(),
                     variant=pairing.variant, world=pairing.world, sample=sample,
                     settings=settings, seed=spec.seed,
                     duration=entry.duration if entry.duration is not None else spec.duration,

@@ -2,7 +2,8 @@
 
 Columns (SI units):
 
-- ``job``, ``mission``, ``variant``, ``sample``: which run;
+- ``job``, ``mission``, ``mission_file`` (its path as the campaign names it),
+  ``variant``, ``sample``: which run;
 - ``solver``, ``hierarchy``, ``time_step`` [s]: the controller settings it ran with;
 - ``outcome``: the run's (``success``, ``failure``, ``stopped``, ``fault``,
   ``interrupted``), or ``error`` (the job raised) or ``timeout`` (past its budget);
@@ -30,13 +31,15 @@ import pyarrow.parquet as pq
 from ..diagnostics import RobocopError
 
 COLUMNS = (
-    ("job", pa.int64()), ("mission", pa.string()), ("variant", pa.string()),
-    ("sample", pa.int64()), ("solver", pa.string()), ("hierarchy", pa.string()),
-    ("time_step", pa.float64()), ("outcome", pa.string()), ("final_state", pa.string()),
+    ("job", pa.int64()), ("mission", pa.string()), ("mission_file", pa.string()),
+    ("variant", pa.string()), ("sample", pa.int64()), ("solver", pa.string()),
+    ("hierarchy", pa.string()), ("time_step", pa.float64()), ("outcome", pa.string()), ("final_state", pa.string()),
     ("mission_time", pa.float64()), ("cycles", pa.int64()), ("qp_failures", pa.int64()),
     ("worst_task_error", pa.float64()), ("min_limit_margin", pa.float64()),
     ("limit_joint", pa.string()), ("wall_time", pa.float64()), ("message", pa.string()),
 )
+IDENTIFYING = ("job", "mission", "variant", "sample", "outcome")
+"""Columns every results table has had: a table with them is one to write over."""
 VOLATILE = ("wall_time",)
 """Columns that depend on the machine and the moment, not on the campaign."""
 
@@ -97,7 +100,7 @@ def is_results_table(path: str | Path) -> bool:
         schema = pq.read_schema(path)
     except (OSError, ValueError, pa.ArrowException):
         return False
-    return b"campaign" in (schema.metadata or {}) and set(dict(COLUMNS)) <= set(schema.names)
+    return b"campaign" in (schema.metadata or {}) and set(IDENTIFYING) <= set(schema.names)
 
 
 def write_results(table: pa.Table, path: str | Path) -> Path:

@@ -117,7 +117,8 @@ def prepare(job, cache: WorkerCache = PROCESS_CACHE) -> PreparedRun:
 
 def job_row(job) -> dict:
     """The columns that identify a job, before it runs."""
-    return {"job": job.index, "mission": job.mission_name, "variant": job.variant,
+    return {"job": job.index, "mission": job.mission_name,
+            "mission_file": job.mission_file, "variant": job.variant,
             "sample": job.sample, "solver": job.setting("solver"),
             "hierarchy": job.setting("hierarchy"), "time_step": job.setting("time_step")}
 
