@@ -201,6 +201,32 @@ def test_a_block_whose_header_does_not_parse_is_skipped_whole(header, broken):
     assert [b.name.text for b in result.mission.behaviors] == ["reach"]
 
 
+@pytest.mark.parametrize("header, broken, inner, mistake", [
+    ("    state moving {", "    state moving moving {",
+     "        enter { left_tool.target = goal }", "        enter { left_tool.target goal }"),
+    ("    state moving {", "    stat moving {",
+     "        when elapsed > timeout -> late", "        when elapsed > timeout -> -> late"),
+    ("behavior reach(goal: target, precision: length, timeout: duration) {",
+     "behavior reach(goal: target, precision: length, timeout: duration) x {",
+     "        when elapsed > timeout -> late", "        when elapsed > timeout -> -> late"),
+])
+def test_the_contents_of_a_skipped_block_are_still_read_for_syntax_errors(
+        header, broken, inner, mistake):
+    """The lines of a block whose header does not parse are parsed after a header of
+    its kind (a misspelt keyword's nearest): a syntax error inside is reported at its
+    line too, and nothing else is."""
+    assert header in PICKUP and inner in PICKUP
+    at = PICKUP.index(header)
+    text = PICKUP[:at] + PICKUP[at:].replace(header, broken, 1).replace(inner, mistake, 1)
+    lines = text.split("\n")
+    header_line, inner_line = lines.index(broken) + 1, lines.index(mistake) + 1
+    found = {d.span.line for d in parse_mission(text, "t.mission").diagnostics}
+    assert found == {header_line, inner_line}
+    alone = PICKUP[:at] + PICKUP[at:].replace(header, broken, 1)
+    assert {d.span.line for d in parse_mission(alone, "t.mission").diagnostics} == \
+        {header_line}
+
+
 def test_a_brace_inside_an_expression_opens_no_block_and_code_after_a_skipped_block_is_read():
     """A stray '{' with code after it on its line is one error, not a block to skip
     (which would swallow the task's own '}'); the code after a skipped block's '}' on

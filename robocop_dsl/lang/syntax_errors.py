@@ -47,6 +47,15 @@ _COMPLETE = frozenset({
 _NAMED = {"NAME": "a name", "NUMBER": "a number", "STRING": "a string", "UNIT": "a unit",
           "_NL": "a new line", "$END": "the end of the file", "COMPARE": "a comparison",
           "_ARROW": "'->'"}
+_BODIES = {"state": ("state _ {", "}"), "final": ("state _ {", "}"),
+           "parallel": ("state _: parallel {", "}"), "region": ("behavior _() {", "}"),
+           "behavior": ("behavior _() {", "}"), "task": ("task _: t() {", "}"),
+           "constraint": ("constraint _: t() {", "}"),
+           **{kind: (f"state _ {{ {kind} {{", "} }") for kind in ("enter", "during", "exit")}}
+"""Per keyword of a statement with a block, a header of its kind and what closes the
+block and the header (the contents of a block whose header did not parse are parsed
+after it)."""
+_PARALLEL = re.compile(r"^\s*state\b.*:\s*parallel\b")
 _GENERIC_HINT_LIMIT = 8
 CONTINUED = re.compile(r"(?:[,(\[]|\band|\bor|\bnot)\s*$")
 """The end of a line whose statement goes on on the next line."""
@@ -207,17 +216,37 @@ class Recovery:
         """The ``{`` that ends the header of a statement that did not parse: its block
         is skipped whole, to its matching ``}``, with the unfinished statement. Its
         contents would otherwise be read as statements of the block around it, each an
-        error. A ``{`` with code after it on its line opens no block; a block never
+        error; their own syntax errors are reported (:meth:`_inside`). A ``{`` with code after it on its line opens no block; a block never
         closed is left to the closing of blocks at the end or by layout."""
         lexer = parser.lexer_thread.state
         text, at = lexer.text.text, lexer.line_ctr.char_pos
         end = None if _code_after(text, token.end_pos) else _matching_brace(text, token.end_pos)
         if end is None or end < at:
             return
+        self._inside(text, token, end)
         lexer.line_ctr.feed(text[at:end])
         self._resync(parser, Token.new_borrow_pos("_NL", "", token))
         if not _code_after(text, end):
             self._skip_line = token.line + text.count("\n", token.end_pos, end)
+
+    def _inside(self, text: str, brace: Token, end: int) -> None:
+        """The syntax errors inside a block that :meth:`_skip_block` skips (from
+        ``brace`` to index ``end`` of ``text``, just past its ``}``): its contents are
+        parsed after a header of its kind (the nearest keyword to the header's first
+        word), their lines the file's."""
+        header = code_of(text[text.rfind("\n", 0, brace.start_pos) + 1:brace.start_pos])
+        words = header.split()
+        kind = difflib.get_close_matches(words[0], _BODIES, n=1, cutoff=0.6) if words else []
+        if not kind:
+            return
+        opening, closing = _BODIES["parallel" if _PARALLEL.search(header) else kind[0]]
+        inner = text[_line_end(text, brace.end_pos) + 1:end - 1]
+        from .parser import parse_mission
+
+        last = brace.line + inner.count("\n") + 1
+        parsed = parse_mission(f"{opening}\n{inner}{closing}\n", self.source.path, brace.line)
+        self.diagnostics += [d for d in parsed.diagnostics
+                             if d.span is not None and brace.line < d.span.line <= last]
 
     def _resync(self, parser, token: Token) -> None:
         """Pop the unfinished statement so that ``token`` (a newline or '}') fits.
