@@ -240,3 +240,30 @@ def test_a_brace_inside_an_expression_opens_no_block_and_code_after_a_skipped_bl
         "        when elapsed > timeout -> late\n    } final x x", 1)
     assert [d.headline() for d in parse_mission(text, "t.mission").diagnostics][-1] == \
         "t.mission:42:15: error[missing-token]: missing ':' before name 'x'"
+
+
+@pytest.mark.parametrize("word, keyword", [("enterr", "enter"), ("exits", "exit"),
+                                           ("stat", "state")])
+def test_a_misspelt_keyword_is_one_word_read_as_the_keyword(word, keyword):
+    """A misspelt keyword is reported whole (not as a keyword it starts with and the
+    rest), with the keyword as the fix, and read as that keyword: its block parses."""
+    text = (f"state a {{\n    {word} {{ enable t }}\n    when elapsed > 1 s -> a\n}}\n"
+            if keyword != "state" else f"{word} a {{\n    when elapsed > 1 s -> a\n}}\n")
+    result = parse_mission(text, "t.mission")
+    column = 1 if keyword == "state" else 5
+    assert [(d.span.line, d.span.column, d.span.end_column, d.message, d.hint)
+            for d in result.diagnostics] == [
+        (1 + (keyword != "state"), column, column + len(word), f"unexpected name '{word}'",
+         f"did you mean '{keyword}'?")]
+    state = result.mission.states[0]
+    assert state.name.text == "a" and [t.target.text for t in state.transitions] == ["a"]
+
+
+def test_a_word_that_is_no_keyword_skips_its_one_line_block_alone():
+    """A statement that starts with a word no keyword is near, followed by a block on
+    its line, is one error: the block's '}' does not close the block around it."""
+    text = "state a {\n    whenever { enable t }\n    when elapsed > 1 s -> a\n}\nfinal b\n"
+    result = parse_mission(text, "t.mission")
+    assert [d.headline() for d in result.diagnostics] == [
+        "t.mission:2:5: error[syntax-error]: unexpected name 'whenever'"]
+    assert [s.name.text for s in result.mission.states] == ["a", "b"]

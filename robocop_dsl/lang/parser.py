@@ -47,7 +47,7 @@ class StatementBreaks(PostLex):
     missing ``]`` does not swallow the following lines.
     """
 
-    always_accept = ("_NL",)
+    always_accept = ("_NL", "NAME")
 
     def process(self, stream):
         brackets = 0

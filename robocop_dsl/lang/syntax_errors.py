@@ -137,12 +137,28 @@ class Recovery:
             else:
                 self._missing(inserted[0], token)
             return True
+        meant = self._keyword_meant(parser, token)
+        if meant is not None:
+            parser.feed_token(Token.new_borrow_pos(meant, token.value, token))
+            self._add("syntax-error", f"unexpected {self._describe(token)}", _span(token),
+                      f"did you mean '{self._literals[meant]}'?")
+            return True
         if token.value in RESERVED and _accepts(parser, "NAME", token):
             parser.feed_token(Token.new_borrow_pos("NAME", token.value, token))
             self._add("reserved-word", f"'{token.value}' is a reserved word, not a name",
                       _span(token), "choose another name")
             return True
         return False
+
+    def _keyword_meant(self, parser, token: Token) -> str | None:
+        """The keyword that a name where none may come misspells (read as that
+        keyword, so that what follows parses), or ``None``."""
+        if token.type not in ("NAME", "UNIT"):
+            return None
+        keywords = {self._literals[k]: k for k in parser.accepts()
+                    if self._literals.get(k, "").isidentifier()}
+        meant = difflib.get_close_matches(token.value, keywords, n=1, cutoff=0.75)
+        return keywords[meant[0]] if meant else None
 
     def close(self, brace: Token, hint: str) -> None:
         """Report a ``{`` that is never closed, at that ``{``."""
@@ -171,10 +187,6 @@ class Recovery:
         shown = expected[:_GENERIC_HINT_LIMIT] + (["..."] if len(expected) > _GENERIC_HINT_LIMIT
                                                   else [])
         hint = "expected " + ", ".join(shown) if expected else None
-        if token.type in ("NAME", "UNIT"):
-            words = [shown[1:-1] for shown in expected if shown[1:-1].isidentifier()]
-            meant = difflib.get_close_matches(token.value, words, n=1, cutoff=0.75)
-            hint = f"did you mean '{meant[0]}'?" if meant else hint
         self._add("syntax-error", f"unexpected {self._describe(token)}", _span(token), hint)
 
     def _bad_character(self, error: UnexpectedCharacters) -> None:
@@ -216,12 +228,15 @@ class Recovery:
         """The ``{`` that ends the header of a statement that did not parse: its block
         is skipped whole, to its matching ``}``, with the unfinished statement. Its
         contents would otherwise be read as statements of the block around it, each an
-        error; their own syntax errors are reported (:meth:`_inside`). A ``{`` with code after it on its line opens no block; a block never
-        closed is left to the closing of blocks at the end or by layout."""
+        error; their own syntax errors are reported (:meth:`_inside`). A ``{`` with
+        code after it on its line opens a block only when its ``}`` is on that line
+        (a one-line block); a block never closed is left to the closing of blocks at
+        the end or by layout."""
         lexer = parser.lexer_thread.state
         text, at = lexer.text.text, lexer.line_ctr.char_pos
-        end = None if _code_after(text, token.end_pos) else _matching_brace(text, token.end_pos)
-        if end is None or end < at:
+        end = _matching_brace(text, token.end_pos)
+        if end is None or end < at or (_code_after(text, token.end_pos)
+                                       and end > _line_end(text, token.end_pos)):
             return
         self._inside(text, token, end)
         lexer.line_ctr.feed(text[at:end])
