@@ -79,3 +79,22 @@ def test_blank_lines_around_comment_groups_kept():
     assert formatted(text) == ("mission m\nworld \"w.yaml\"\nstate s {\n"
                                "    enter { enable t }\n\n    # leave\n"
                                "    when t.reached -> s\n}\n")
+
+
+def test_a_comment_before_a_blank_line_and_a_closing_brace_keeps_the_block_indent():
+    """A comment line followed by a blank line and '}' is indented like the block's
+    statements, and formatting the result changes nothing."""
+    text = ("mission m\nworld \"w.yaml\"\nstate s {\n    state a {\n"
+            "        when elapsed > 1 s -> f\n# note\n\n    }\n    final f\n}\n")
+    out = formatted(text)
+    assert "\n        # note\n    }\n" in out
+    assert formatted(out) == out
+
+
+def test_a_tab_before_a_trailing_comment_sets_no_column():
+    """Tabs between code and a comment give no column to keep (their width is the
+    editor's): the comment goes two spaces after the code, at once and ever after."""
+    text = "mission m\nworld \"w.yaml\"\nstate s {\n\texit   { disable arms }\t   # off\n}\n"
+    out = formatted(text)
+    assert "    exit { disable arms }  # off\n" in out
+    assert formatted(out) == out

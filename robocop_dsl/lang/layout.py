@@ -241,7 +241,7 @@ def with_comments(lines: list[Line], source: list[str], found: list[Comment],
     columns = _comment_columns(lines, trailing, source)
     out: list[str] = []
     for index in range(len(lines) + 1):
-        following = lines[index].text if index < len(lines) else ""
+        following = next((line.text for line in lines[index:] if line.text.strip()), "")
         before = following[:len(following) - len(following.lstrip())]
         before += indent if following.strip() == "}" else ""
         out += [before + comment.text for comment in leading.get(index, [])]
@@ -257,10 +257,11 @@ def with_comments(lines: list[Line], source: list[str], found: list[Comment],
 def _own_column(comment: Comment, source: list[str], code: int) -> int:
     """Where a trailing comment goes after ``code`` printed columns: two spaces after
     it, or the author's column when the author set the comment :data:`SET_APART` or
-    more spaces after the code (a column chosen, often shared by comments far apart)
-    and the code leaves room."""
+    more spaces (no tab) after the code (a column chosen, often shared by comments far
+    apart) and the code leaves room."""
     line = source[comment.line - 1]
-    spaced = comment.column - len(line[:comment.column].rstrip()) >= SET_APART
+    gap = line[len(line[:comment.column].rstrip()):comment.column]
+    spaced = len(gap) >= SET_APART and "\t" not in gap     # a tab's width is no column
     return max(code + 2, comment.column) if spaced else code + 2
 
 
