@@ -104,10 +104,12 @@ def read_source(path: str | Path, kind: tuple[str, ...] | None = None) -> Source
     try:
         text = data.decode(encoding)
     except UnicodeDecodeError as error:
-        prefix = data[:error.start].decode(encoding, errors="replace")
+        lines = editor_lines if kind == MISSION else str
+        prefix = lines(data[:error.start].decode(encoding, errors="replace"))
         probe = SourceFile(shown, prefix, _BREAKS[kind])
         line, column = probe.position(len(prefix))
-        whole = SourceFile(shown, data.decode(encoding, errors="replace"), _BREAKS[kind])
+        whole = SourceFile(shown, lines(data.decode(encoding, errors="replace")),
+                           _BREAKS[kind])
         raise UnreadableSource(shown, f"byte 0x{data[error.start]:02x} at offset "
                                f"{error.start} is not {encoding}", Span.point(line, column),
                                whole.line(line)) from None

@@ -330,6 +330,15 @@ def test_a_mission_not_in_utf8_is_located_at_the_byte(tmp_path):
     assert "offset 17" in diagnostic.message
 
 
+
+def test_a_byte_not_in_utf8_after_a_lone_carriage_return_is_on_the_next_line(tmp_path):
+    """A lone '\\r' ends a mission's line there too, as in an editor."""
+    (tmp_path / "m.mission").write_bytes(b"mission m\r\xffworld \"w.yaml\"\n")
+    [diagnostic] = check_file(tmp_path / "m.mission").diagnostics
+    assert (diagnostic.span.line, diagnostic.span.column) == (2, 1)
+    assert diagnostic.source_line.endswith('world "w.yaml"')
+
+
 # ---- lines counted as the parsers count them ----------------------------------------
 
 @pytest.mark.parametrize("odd, line", [("\f", 5), ("\v", 5), ("\u2028", 5), ("\r", 6),

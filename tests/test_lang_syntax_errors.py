@@ -267,3 +267,19 @@ def test_a_word_that_is_no_keyword_skips_its_one_line_block_alone():
     assert [d.headline() for d in result.diagnostics] == [
         "t.mission:2:5: error[syntax-error]: unexpected name 'whenever'"]
     assert [s.name.text for s in result.mission.states] == ["a", "b"]
+
+
+@pytest.mark.parametrize("line", [
+    "    when elapsed > 1 s -> done when elapsed > 2 s -> done",
+    "    enter { enable t } when elapsed > 1 s -> done",
+])
+def test_a_second_statement_on_a_line_in_a_block_is_a_missing_new_line(line):
+    """A statement that follows another on its line, inside a block, is a missing new
+    line at it, not a '}' missing before it (which would close the block early and make
+    its real '}' unexpected)."""
+    text = f"state s {{\n{line}\n}}\nfinal done\n"
+    result = parse_mission(text, "t.mission")
+    column = line.rindex("when") + 1
+    assert [d.headline() for d in result.diagnostics] == [
+        f"t.mission:2:{column}: error[missing-token]: expected a new line before 'when'"]
+    assert [s.name.text for s in result.mission.states] == ["s", "done"]

@@ -35,6 +35,9 @@ RESERVED = frozenset({
 _SUBSTITUTES = {"COLON": "EQUAL", "EQUAL": "COLON"}
 _INSERTIONS = (("_ARROW",), ("RBRACE",), ("RPAR",), ("RSQB",), ("EQUAL",), ("COLON",),
                ("RBRACE", "_NL"), ("RSQB", "_NL"), ("RPAR", "_NL"), ("_NL",))
+_MID_LINE_INSERTIONS = (_INSERTIONS[0], ("_NL",), *_INSERTIONS[1:-1])
+"""Before a token that is not the first of its line, a missing new line comes before a
+missing '}' (a second statement written on the line, not the block's end)."""
 _SYNC = ("_NL", "RBRACE")
 # Parsed statements that recovery never discards while looking for a place to resume.
 _COMPLETE = frozenset({
@@ -121,7 +124,9 @@ class Recovery:
                     else "a declaration names its type after ':' (task NAME: TYPE(...))")
             self._add("wrong-token", f"expected {wanted} here, not {found}", _span(token), hint)
             return True
-        for inserted in _INSERTIONS:
+        text = parser.lexer_thread.state.text.text
+        first_on_line = not text[text.rfind("\n", 0, token.start_pos) + 1:token.start_pos].strip()
+        for inserted in _INSERTIONS if first_on_line else _MID_LINE_INSERTIONS:
             trial = _trial(parser)
             if not _feed_all(trial, inserted, token):
                 continue
