@@ -139,6 +139,18 @@ class WorldNames:
             info = self.world.body(info.parent)
         return joints
 
+    def hangs_from(self, body: str, ancestor: str) -> bool:
+        """Whether ``ancestor`` is on the chain from ``body`` to the world, as the world
+        file places them."""
+        if self.world is None or not self.world.has_body(body):
+            return False
+        info = self.world.body(body)
+        while info.parent is not None:
+            if info.parent == ancestor:
+                return True
+            info = self.world.body(info.parent)
+        return False
+
 
 def _floats(values) -> tuple[float, ...]:
     return tuple(float(v) for v in values)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..lang import ast
 from ..lang.catalogue import SWITCH
+from ..world.description import ROOT as WORLD
 from .conditions import check_condition
 from .context import CheckContext
 from .declarations import subject_of
@@ -222,10 +223,14 @@ def check_action(ctx: CheckContext, action: ast.Action) -> tuple[float, ...] | N
     elif isinstance(action, ast.Log):
         check_log(ctx, action)
     elif isinstance(action, ast.Attach):
+        body, parent = action.body.text, action.parent.text
         if all([check_body(ctx, action.body), check_body(ctx, action.parent)]):
-            if action.body.text == action.parent.text:
-                ctx.error("wrong-value", f"'{action.body.text}' cannot be attached to itself",
-                          action.span)
+            if body == parent:
+                ctx.error("wrong-value", f"'{body}' cannot be attached to itself", action.span)
+            elif body != WORLD and ctx.world.hangs_from(parent, body):
+                ctx.error("wrong-value", f"cannot attach '{body}' to '{parent}': '{parent}' "
+                          f"hangs from '{body}'", action.parent.span,
+                          "attach it to a body that does not move with it")
             else:
                 _check_free(ctx, action.body, "attach")
     elif isinstance(action, ast.Detach):
@@ -238,6 +243,10 @@ def _check_free(ctx: CheckContext, body, verb: str) -> None:
     """A body a joint moves (a robot's link) is never attached nor detached; in a world
     run by physics, only a free body can be welded and released."""
     world = ctx.world
+    if body.text == WORLD:
+        ctx.error("not-free", f"cannot {verb} the world", body.span, "attach a body the "
+                  "world places (a part, a point) to a body, and detach it")
+        return
     if not world.known:
         return
     moved_by = [] if world.simulated else sorted(world.body_joints(body.text))

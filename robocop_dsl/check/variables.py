@@ -224,6 +224,10 @@ def _binary(ctx: CheckContext, node: ast.Binary, visible) -> Typed | None:
         ctx.error("wrong-value", f"'{node.operator}' multiplies or divides by a number, not "
                   "a 3-vector", node.span, "take one component: BODY.position.z")
         return None
+    if node.operator == "/" and _zero(node.right):
+        ctx.error("wrong-value", "division by zero: the divisor is 0", node.right.span,
+                  "divide by a value that is never 0")
+        return None
     sign = 1 if node.operator == "*" else -1
     dimension = tuple(a + sign * b for a, b in zip(left.dimension, right.dimension))
     if right.size == 3 and node.operator == "/":
@@ -231,6 +235,16 @@ def _binary(ctx: CheckContext, node: ast.Binary, visible) -> Typed | None:
         return None
     return Typed(dimension, max(left.size, right.size),
                  node.operator == "*" and left.whole and right.whole)
+
+
+def _zero(node) -> bool:
+    """Whether ``node`` is a number written 0, or a vector with a component written 0."""
+    while isinstance(node, ast.Negative):
+        node = node.operand
+    if isinstance(node, ast.Quantity):
+        return float(node.value) == 0
+    return isinstance(node, ast.Vector) and any(
+        isinstance(value, (int, float)) and value == 0 for value in node.values)
 
 
 def _vector(ctx: CheckContext, node: ast.Vector) -> Typed | None:
