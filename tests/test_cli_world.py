@@ -49,6 +49,16 @@ def test_world_error_exit_code(tmp_path):
     assert "Traceback" not in done.stderr
 
 
+def test_a_file_that_is_no_world_is_refused_by_its_name():
+    """A mission given as the world is refused for its name, not parsed as YAML."""
+    done = subprocess.run([sys.executable, "-m", "robocop_dsl", "world",
+                           str(REPO / "missions" / "pickup.mission")],
+                          capture_output=True, text=True)
+    assert done.returncode == 1 and done.stdout == ""
+    assert "error[unreadable-file]" in done.stderr and "not a YAML file" in done.stderr
+    assert "yaml-syntax" not in done.stderr and "Traceback" not in done.stderr
+
+
 def test_usage_error_exit_code():
     done = subprocess.run([sys.executable, "-m", "robocop_dsl", "wrld"], capture_output=True,
                           text=True)

@@ -8,7 +8,8 @@ import sys
 
 from typing import TYPE_CHECKING
 
-from ..diagnostics import DiagnosticError, render_all
+from ..diagnostics import Diagnostic, DiagnosticError, render_all
+from ..sources import WORLD, kind_of, refusal
 
 if TYPE_CHECKING:
     from ..world import World
@@ -31,6 +32,11 @@ def run(args) -> int:
     """Exit 0 when the world loads, 1 when it has errors."""
     from ..world import load_world
 
+    if kind_of(args.file) != WORLD:
+        print(render_all([Diagnostic("unreadable-file", f"cannot read '{args.file}': "
+                                     f"{refusal(args.file, WORLD)}", args.file, None)]),
+              file=sys.stderr)
+        return 1
     try:
         world = load_world(args.file)
         if args.mjcf is not None:
