@@ -16,6 +16,8 @@ from ..sources import URDF, UnreadableSource, read_source
 from . import paths
 from .description import ROOT, prefixed
 from .placement import IDENTITY
+from .urdf_geometry import check_geometry
+from .urdf_positions import ElementPositions
 from .urdf_values import UrdfValues
 
 DOFS = {"fixed": 0, "revolute": 1, "continuous": 1, "prismatic": 1, "floating": 6,
@@ -111,8 +113,9 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
               diagnostics: list) -> UrdfModel | None:
     """Read ``path`` and rename its links and joints into namespace ``prefix``.
 
-    Problems (malformed XML, unresolved meshes, a tree without a single root) are
-    appended to ``diagnostics``; ``None`` is returned when the file is unusable.
+    Problems (malformed XML, bad numbers or shapes, unresolved meshes, a tree without a
+    single root) are appended to ``diagnostics``; ``None`` is returned when the file is
+    unusable.
     """
     try:
         source = read_source(path, URDF)
@@ -127,6 +130,7 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
                                         Span.point(line, column + 1)))
         return None
     lines = element_lines(source.text)
+    positions = ElementPositions(source, robot)
     values = UrdfValues(source, diagnostics)
     readable = [values.link(link, lines.get(("link", link.get("name")), 1))
                 for link in robot.findall("link")]
@@ -135,6 +139,8 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
     readable += [values.unique(robot.findall(tag), tag, lines) for tag in ("link", "joint")]
     if not all(readable):
         return None
+    for link in robot.findall("link"):
+        check_geometry(link, positions, diagnostics)
     model = UrdfModel(path, None)
     rename = {}
     for link in robot.findall("link"):

@@ -114,7 +114,7 @@ class UrdfValues:
 
     def _number(self, element: ET.Element, name: str, line: int, what: str) -> None:
         text = element.get(name)
-        value = _finite(text)
+        value = finite(text)
         if value is None:
             self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
                         f"must be a finite number, not '{text}'",
@@ -126,7 +126,7 @@ class UrdfValues:
     def _vector(self, element: ET.Element, name: str, line: int, what: str) -> None:
         text = element.get(name)
         parts = text.split()
-        if len(parts) != 3 or any(_finite(p) is None for p in parts):
+        if len(parts) != 3 or any(finite(p) is None for p in parts):
             self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
                         f"must be three finite numbers, not '{text}'",
                         "for example xyz=\"0 0 0.1\" (m) or rpy=\"0 0 1.57\" (rad)")
@@ -149,7 +149,7 @@ class UrdfValues:
         return line, 1
 
 
-def _finite(text: str | None) -> float | None:
+def finite(text: str | None) -> float | None:
     """``text`` as a finite float, else ``None``."""
     if text is None or not re.fullmatch(r"\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*", text):
         return None
