@@ -15,6 +15,7 @@ from ..diagnostics import SourceFile, Span
 from ..sources import URDF, UnreadableSource, read_source
 from . import paths
 from .description import ROOT, prefixed
+from .meshes import lfs_pointer, load_problems, mesh_refusal
 from .placement import IDENTITY
 from .urdf_geometry import check_geometry
 from .urdf_positions import ElementPositions
@@ -22,6 +23,7 @@ from .urdf_values import UrdfValues
 
 DOFS = {"fixed": 0, "revolute": 1, "continuous": 1, "prismatic": 1, "floating": 6,
         "planar": 3}
+_MESH_FORMATS = "a mesh is a regular file in STL, COLLADA (.dae), OBJ, PLY or MSH"
 
 
 @dataclass
@@ -113,9 +115,9 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
               diagnostics: list) -> UrdfModel | None:
     """Read ``path`` and rename its links and joints into namespace ``prefix``.
 
-    Problems (malformed XML, bad numbers or shapes, unresolved meshes, a tree without a
-    single root) are appended to ``diagnostics``; ``None`` is returned when the file is
-    unusable.
+    Problems (malformed XML, bad numbers or shapes, meshes that are not found, may not
+    be read or, for collision meshes, do not load, a tree without a single root) are
+    appended to ``diagnostics``; ``None`` is returned when the file is unusable.
     """
     try:
         source = read_source(path, URDF)
@@ -172,7 +174,7 @@ def read_urdf(path: Path, prefix: str, material_prefix: str,
     for material in robot.iter("material"):
         if material.get("name"):
             material.set("name", material_prefix + material.get("name"))
-    _resolve_meshes(robot, source, lines, diagnostics)
+    _resolve_meshes(robot, positions, diagnostics)
     roots = [name for name in model.links if name not in children]
     if len(roots) != 1:
         diagnostics.append(source.error(
@@ -210,25 +212,42 @@ def _fold_world(robot: ET.Element, model: UrdfModel, source: SourceFile,
     return True
 
 
-def _resolve_meshes(robot: ET.Element, source: SourceFile, lines: dict,
+def _resolve_meshes(robot: ET.Element, positions: ElementPositions,
                     diagnostics: list) -> None:
+    """Set each mesh's filename to the file it resolves to; report the meshes not found,
+    those that may not be read and the collision meshes coal's loader refuses."""
+    source = positions.source
     folder = Path(source.path).parent
+    collision = []
     for link in robot.findall("link"):
+        name = link.get("name")
+        collision_meshes = {id(mesh) for element in link.findall("collision")
+                            for mesh in element.iter("mesh")}
         for mesh in link.iter("mesh"):
-            uri = mesh.get("filename", "")
+            uri = mesh.get("filename")
+            if not uri:
+                continue
+            span = positions.span(mesh, "filename")
             found = paths.resolve(uri, folder)
+            refused = found and mesh_refusal(uri, found)
             if found is None:
-                line = _mesh_line(source.text, uri)
                 diagnostics.append(source.error(
-                    "mesh-not-found", f"cannot find mesh '{uri}' of link '{link.get('name')}'",
-                    Span.point(line), "package:// URIs resolve along the robots path "
+                    "mesh-not-found", f"cannot find mesh '{uri}' of link '{name}'", span,
+                    "package:// URIs resolve along the robots path "
                     "(the URDF's folder, robots/, ROBOCOP_PATH)"))
+            elif refused:
+                diagnostics.append(source.error(
+                    "mesh-error", f"cannot read mesh '{uri}' of link '{name}': {refused}",
+                    span, _MESH_FORMATS))
             else:
                 mesh.set("filename", str(found))
+                if id(mesh) in collision_meshes:
+                    collision.append((found, uri, name, span))
+    problems = load_problems([found for found, *_ in collision])
+    for found, uri, name, span in collision:
+        if found in problems:
+            diagnostics.append(source.error(
+                "mesh-error", f"cannot load mesh '{uri}' of link '{name}': {problems[found]}",
+                span, "the file is a Git LFS pointer, not the mesh: fetch it with "
+                "'git lfs pull'" if lfs_pointer(found) else _MESH_FORMATS))
 
-
-def _mesh_line(text: str, uri: str) -> int:
-    for number, line in enumerate(text.splitlines(), 1):
-        if uri in line:
-            return number
-    return 1
