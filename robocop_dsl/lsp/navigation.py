@@ -210,7 +210,7 @@ def rename(project: Project, path: Path, line: int, column: int,
 def _seeing(project: Project, target: Target) -> list[Path]:
     """The mission files that see the declaration of ``target``: its own and those
     whose imports reach it."""
-    return [target.path, *project.importers(target.path)] if target.path.suffix == ".mission" \
+    return [target.path, *project.importers(target.path)] if project.is_mission(target.path) \
         else []
 
 

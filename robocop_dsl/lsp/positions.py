@@ -10,8 +10,10 @@ place is in, and refuses a request's position that is not in its document.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Callable
+from urllib.parse import quote, unquote
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcInvalidParams
@@ -33,12 +35,19 @@ def location(path: Path, span: Span | None) -> types.Location:
     return types.Location(uri=path_to_uri(path), range=to_range(span))
 
 
+UNSAVED = Path(os.devnull, "unsaved")
+"""Where a document that is no file (``untitled:Untitled-1``, a new unsaved one) is
+kept: under a device, a folder that cannot exist, so that nothing resolves beside it
+(its relative imports are not found; its world is looked up along the robots path)."""
+
+
 class Spellings:
     """The names the client gives files. Inside the server a file is its resolved path
     (one file, one key, whatever links lead to it); what goes back to the client names
-    it as the client does: an open document by the URI it was opened with, a file under
-    a workspace folder under that folder's own path (a folder reached through a
-    symbolic link keeps the link's name)."""
+    it as the client does: an open document by the URI it was opened with (so is a
+    document that is no file, closed or not), a file under a workspace folder under
+    that folder's own path (a folder reached through a symbolic link keeps the link's
+    name)."""
 
     def __init__(self):
         self._open: dict[Path, str] = {}
@@ -61,6 +70,8 @@ class Spellings:
     def uri(self, path: Path) -> str:
         if path in self._open:
             return self._open[path]
+        if path.parent == UNSAVED:
+            return unquote(path.name)
         for resolved, spelled in self._folders:
             if resolved != spelled and path.is_relative_to(resolved):
                 return from_fs_path(str(spelled / path.relative_to(resolved)))
@@ -76,7 +87,9 @@ def path_to_uri(path: Path) -> str:
 
 
 def uri_to_path(uri: str) -> Path:
-    return Path(to_fs_path(uri) or uri).resolve()
+    """The resolved path of a ``file:`` URI; for any other URI, its name under
+    :data:`UNSAVED`."""
+    return Path(to_fs_path(uri) or UNSAVED / quote(uri, safe=":")).resolve()
 
 
 def file_line(where: str) -> tuple[Path, Span] | None:

@@ -136,10 +136,15 @@ class Project:
             self._pieces.pop(path, None)
             self._sources.pop(path, None)
 
+    def is_mission(self, path: Path) -> bool:
+        """Whether ``path`` is a mission file: an open document, whatever its name, or
+        a ``.mission`` file."""
+        return path in self.open or kind_of(path) == MISSION
+
     def source(self, path: Path) -> SourceFile | None:
         """The current text of a mission, world or URDF file, its lines counted as its
         parser counts them."""
-        if kind_of(path) != MISSION:
+        if not self.is_mission(path):
             try:
                 return read_source(path)
             except UnreadableSource:
