@@ -1,7 +1,9 @@
 """An open document's text after the editor's changes (``didChange``). A change's range
 is found from the place of the previous one: typing moves little, so finding a line
 costs the lines between, not the whole text; and a line's characters are counted in
-code units only when it is not ASCII."""
+code units only when it is not ASCII. A range whose end comes before its start is read
+as the text between its two ends, as the editors' own ranges and the reference text
+document of ``vscode-languageserver`` read it."""
 
 from __future__ import annotations
 
@@ -19,6 +21,14 @@ def _column(line: str, units: int, counter: UnitCounter) -> int:
             return index
         counted += counter.code_units_for_char(char)
     return len(line)
+
+
+def reversed_range(change) -> bool:
+    """Whether a change's range ends before it starts."""
+    if isinstance(change, types.TextDocumentContentChangeWholeDocument):
+        return False
+    start, end = change.range.start, change.range.end
+    return (end.line, end.character) < (start.line, start.character)
 
 
 class Texts:
@@ -55,10 +65,12 @@ class Texts:
         if isinstance(change, types.TextDocumentContentChangeWholeDocument):
             self._mark = None
             return change.text
-        start = self._offset(text, change.range.start)
-        line_start = self._line_start(text, change.range.start.line)
-        end = self._offset(text, change.range.end) if change.range.end != change.range.start \
-            else start
+        first, last = change.range.start, change.range.end
+        if reversed_range(change):
+            first, last = last, first
+        start = self._offset(text, first)
+        line_start = self._line_start(text, first.line)
+        end = self._offset(text, last) if last != first else start
         changed = text[:start] + change.text + text[end:]
-        self._mark = (changed, change.range.start.line, line_start)
+        self._mark = (changed, first.line, line_start)
         return changed

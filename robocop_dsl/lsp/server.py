@@ -31,7 +31,7 @@ from ..check import Cancelled
 from ..sources import editor_lines
 from . import (checking, completion, diagnostics, folding, formatting, hover, navigation,
                parent, semantic_tokens, signatures, symbols)
-from .changes import Texts
+from .changes import Texts, reversed_range
 from .positions import SPELLINGS, Encoding, path_to_uri, unknown_document, uri_to_path
 from .project import COLLECTOR, Project
 from .protocol import MissionProtocol, Refusals, converter
@@ -203,6 +203,13 @@ def build_server() -> MissionServer:
                 types.MessageType.Warning, f"change to {path} ignored: it is not open"))
             return
         for change in params.content_changes:
+            if reversed_range(change):
+                start, end = change.range.start, change.range.end
+                ls.window_log_message(types.LogMessageParams(
+                    types.MessageType.Warning,
+                    f"change to {path}: its range ends ({end.line}:{end.character}) before "
+                    f"it starts ({start.line}:{start.character}); the text between them "
+                    "is replaced"))
             text = editor_lines(ls.texts.apply(text, change))
         project.open[path] = text
         ls.checks.versions[path] = params.text_document.version
