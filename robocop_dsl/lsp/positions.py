@@ -102,7 +102,10 @@ def file_line(where: str) -> tuple[Path, Span] | None:
 
 
 def unknown_document(path: Path) -> str:
-    return f"unknown document {path}: it is neither open nor a mission file that can be read"
+    """Why a request about ``path`` is refused (a document that is no file named by its
+    URI)."""
+    shown = SPELLINGS.uri(path) if path.parent == UNSAVED else path
+    return f"unknown document {shown}: it is neither open nor a mission file that can be read"
 
 
 class Encoding:
