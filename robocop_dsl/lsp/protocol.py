@@ -1,9 +1,9 @@
 """The JSON-RPC side of the server: pygls's protocol, with a request whose parameters
 are not valid (a negative or fractional position, one past 2^31 - 1, a missing
-field), a message that is not a request, a notification or a response, and a request
-after ``shutdown`` answered by an error that says what is wrong instead of being
-dropped, and the documents' texts left to the server (pygls's own copies, rebuilt
-line by line at each change, are not kept)."""
+field), a message that is not JSON-RPC 2.0 (:mod:`.envelope`), and a request after
+``shutdown`` answered by an error that says what is wrong instead of being dropped or
+shown to the user, and the documents' texts left to the server (pygls's own copies,
+rebuilt line by line at each change, are not kept)."""
 
 from __future__ import annotations
 
@@ -14,14 +14,7 @@ from pygls.exceptions import (JsonRpcInvalidParams, JsonRpcInvalidRequest,
                               JsonRpcParseError, JsonRpcRequestCancelled)
 from pygls.protocol import LanguageServerProtocol, default_converter, lsp_method
 
-_MESSAGE_KEYS = ("method", "result", "error")
-"""A JSON-RPC message has one of these: a request or notification, or a response."""
-
-
-class _Answered:
-    """A request already answered with an error: there is nothing left to handle."""
-
-    jsonrpc = None
+from . import envelope
 
 
 def _integer(value, kind: type) -> int:
@@ -60,45 +53,58 @@ def _reasons(error: BaseException) -> list[str]:
 
 
 class MissionProtocol(LanguageServerProtocol):
-    """pygls's language server protocol; malformed requests get an error reply."""
+    """pygls's language server protocol; a malformed message gets an error reply."""
 
     def structure_message(self, data: dict):
-        if "jsonrpc" in data and "id" in data and not any(k in data for k in _MESSAGE_KEYS):
-            return self._refuse(data["id"], JsonRpcInvalidRequest(
-                "invalid message: it has no 'method', 'result' or 'error'"))
-        kind = self.get_message_type(data.get("method", "")) if "jsonrpc" in data else None
-        if kind is None or "id" not in data:
-            return super().structure_message(data)
-        try:
-            return self._converter.structure(data, kind)
-        except Exception as error:
-            return self._refuse(data["id"], JsonRpcInvalidParams(
-                f"invalid {data['method']} request: " + " ".join(_reasons(error))))
+        """Every object of a message as it is: the message is read whole, once decoded
+        (:meth:`handle_message`), so that no object inside it is read as a message."""
+        return data
 
     def handle_message(self, message):
-        if isinstance(message, _Answered):
+        reason = envelope.invalid(message)
+        if reason is not None:
+            self._refuse(envelope.answer_id(message),
+                         JsonRpcInvalidRequest(f"invalid message: {reason}"))
             return
-        if isinstance(message, dict):       # an object without "jsonrpc"
-            if "id" in message:
-                self._refuse(message["id"], JsonRpcInvalidRequest(
-                    "invalid message: it has no 'jsonrpc' version"))
+        structured = self._structured(message)
+        if structured is None:
             return
-        if (self._shutdown and getattr(message, "method", types.EXIT) != types.EXIT
-                and hasattr(message, "id")):
-            self._refuse(message.id, JsonRpcInvalidRequest(
-                f"{message.method}: the server is shut down (only 'exit' is accepted)"))
+        if self._shutdown and "id" in message and message.get("method", types.EXIT) \
+                != types.EXIT:
+            self._refuse(message["id"], JsonRpcInvalidRequest(
+                f"{message['method']}: the server is shut down (only 'exit' is accepted)"))
             return
-        super().handle_message(message)
+        super().handle_message(structured)
+
+    def _structured(self, data: dict):
+        """``data`` as pygls's type of its message; ``None`` when its parameters (or
+        result) do not fit that type: a request gets an "invalid params" error, anything
+        else is ignored, saying why in the editor's log."""
+        kind = self.get_message_type(data["method"]) if "method" in data else None
+        try:
+            if kind is None:
+                return super().structure_message(data)
+            return self._converter.structure(data, kind)
+        except Exception as error:
+            reason = " ".join(dict.fromkeys(_reasons(error.__cause__ or error)))
+        if "method" in data and "id" in data:
+            self._refuse(data["id"], JsonRpcInvalidParams(
+                f"invalid {data['method']} request: {reason}"))
+        else:
+            self.notify(types.WINDOW_LOG_MESSAGE, types.LogMessageParams(
+                types.MessageType.Error,
+                f"{data.get('method', 'a response')} ignored: {reason}"))
+        return None
 
     def refuse_unreadable(self, error: BaseException) -> None:
         """Answer a message that is not JSON with a parse error (it has no id to answer)."""
-        reply = JsonRpcParseError(f"the message is not JSON: {error}")
-        self._send_data({"jsonrpc": self.VERSION, "id": None,
-                         "error": {"code": reply.code, "message": reply.message}})
+        self._refuse(None, JsonRpcParseError(f"the message is not JSON: {error}"))
 
-    def _refuse(self, msg_id, error) -> _Answered:
-        self._send_response(msg_id, error=error.to_response_error())
-        return _Answered()
+    def _refuse(self, msg_id, error) -> None:
+        """An error reply to ``msg_id`` (``None``: an id that cannot be read, sent as
+        null)."""
+        self._send_data({"jsonrpc": envelope.VERSION, "id": msg_id,
+                         "error": {"code": error.code, "message": error.message}})
 
     def _to_server(self, method: str, params):
         if (handler := self.fm.features.get(method)) is not None:
