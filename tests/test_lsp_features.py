@@ -255,3 +255,25 @@ async def test_edits_in_a_row_are_checked_once(client: LanguageClient):
         published.append(params.version)
     assert len(published) < edits / 4
     assert not client.diagnostics[uri]
+
+
+@pytest.mark.asyncio
+async def test_a_behaviour_final_is_named_and_renamed_where_it_is_instantiated(
+        client: LanguageClient):
+    """A library behaviour's final state is named by the missions that instantiate it
+    (``first.placed``): its references, asked for there, are in both files, and a
+    rename from there edits both."""
+    mission, library = MISSIONS / "two_parts.mission", MISSIONS / "bazar_common.mission"
+    lines = mission.read_text().splitlines()
+    uri = await opened(client, mission)
+    position = at("first.placed", lines=lines, after=len("first."))
+    found = await client.text_document_references_async(types.ReferenceParams(
+        text_document=types.TextDocumentIdentifier(uri), position=position,
+        context=types.ReferenceContext(include_declaration=True)))
+    places = {(Path(p.uri).name, p.range.start.line) for p in found}
+    library_lines = library.read_text().splitlines()
+    assert (library.name, at("final placed", lines=library_lines).line) in places
+    assert (mission.name, position.line) in places
+    edit = await client.text_document_rename_async(types.RenameParams(
+        types.TextDocumentIdentifier(uri), position, "delivered"))
+    assert {Path(u).name for u in edit.changes} >= {mission.name, library.name}

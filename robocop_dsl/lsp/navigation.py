@@ -80,12 +80,14 @@ def _places(project: Project, target: Target, paths) -> list[tuple[Path, names.O
 
 
 def naming(project: Project, target: Target) -> list[tuple[Path, names.Occurrence]]:
-    """Every place that names ``target``, in the files that can see it: its own for
-    a state, var, parameter or region; those that import its file for a declaration;
-    for what the world declares, every mission and library known (open, imported or in
-    the workspace)."""
+    """Every place that names ``target``, in the files that can see it: its own and
+    those that import it for a state, var, parameter or region (a behaviour's final
+    states and parameters are named where it is instantiated: ``first.arrived``,
+    ``height = 5 cm``); those that import its file for a declaration; for what the
+    world declares, every mission and library known (open, imported or in the
+    workspace)."""
     if target.kind in LOCAL:
-        return _places(project, target, [target.path])
+        return _places(project, target, _seeing(project, target) or [target.path])
     paths = project.files()
     if target.kind not in WORLD_KINDS:
         paths = [p for p in paths if target.path in [c.path for c in project.closure(p)]]
