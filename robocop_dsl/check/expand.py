@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 
+from ..diagnostics import Diagnostic
 from ..lang import ast
 from .behaviors import (bind_arguments, check_behavior_declarations, check_recursion,
                         generic_bindings, instance_text, instantiated)
@@ -61,6 +62,7 @@ class Expander:
         self.bad_defaults = check_behavior_declarations(ctx, self.behaviors, self.lets)
         self.recursive = check_recursion(ctx, self.behaviors)
         self.exposed: set[str] = set()
+        self.expansions: dict[tuple, tuple[ast.Machine, list[Diagnostic], int]] = {}
 
     def mission(self, mission: ast.Mission) -> ast.Mission:
         """``mission`` with constants bound in its declarations and its machine expanded."""
@@ -147,9 +149,31 @@ class Expander:
         notes = self.ctx.notes
         self.ctx.notes = (instance_note(self.ctx, instance), *notes)
         try:
-            return self.machine(behavior.machine, bindings, (*stack, name))
+            return self.bound(name, bindings, (*stack, name))
         finally:
             self.ctx.notes = notes
+
+    def bound(self, name: str, bindings: dict[str, Binding],
+              stack: tuple[str, ...]) -> ast.Machine:
+        """Behaviour ``name``'s machine expanded with ``bindings``, made once per set of
+        bound values: a substituted value takes the span of the name it replaces, so
+        instances that bind equal values get equal machines and the same problems, which
+        are reported again with the notes of each."""
+        key = (name, stack, self.ctx.generic, *(
+            (parameter, repr(binding.value), binding.span) for parameter, binding
+            in bindings.items() if binding is not self.lets.get(parameter)))
+        known = self.expansions.get(key)
+        outer = self.ctx.notes
+        if known is None:
+            start = len(self.ctx.diagnostics)
+            machine = self.machine(self.behaviors[name].machine, bindings, stack)
+            known = (machine, self.ctx.diagnostics[start:], len(outer))
+            self.expansions[key] = known
+            return machine
+        machine, problems, kept = known
+        self.ctx.diagnostics += [dataclasses.replace(
+            d, notes=d.notes[:len(d.notes) - kept] + outer) for d in problems]
+        return machine
 
 
 def instance_note(ctx: CheckContext, instance: ast.Instance) -> str:
