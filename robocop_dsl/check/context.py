@@ -47,6 +47,7 @@ class WorldNames:
 
     def __init__(self, world=None):
         self.world = world
+        self._joints: dict[str, Joints | None] = {}
 
     @property
     def known(self) -> bool:
@@ -81,7 +82,13 @@ class WorldNames:
         return list(self.world.group_names()) + list(self.world.joint_names())
 
     def joints(self, name: str) -> Joints | None:
-        """The joint group or joint ``name``; ``None`` when unknown or no world."""
+        """The joint group or joint ``name``; ``None`` when unknown or no world (looked up
+        once per name)."""
+        if name not in self._joints:
+            self._joints[name] = self._looked_up(name)
+        return self._joints[name]
+
+    def _looked_up(self, name: str) -> Joints | None:
         if self.world is None:
             return None
         if self.world.has_group(name):
