@@ -204,7 +204,8 @@ class CheckContext:
     :class:`~.variables.VarInfo`), ``mission_variables`` those the mission declares at
     its top, which every behaviour sees; ``all_variables`` the names of every var
     declared anywhere; ``in_target`` is true while an action's target is checked (the
-    one value that may hold vars).
+    one value that may hold vars). ``instance_notes`` are the notes naming behaviour
+    instances, written so far (see :func:`~.expand.instance_note`).
     """
 
     def __init__(self, source: SourceFile, world=None):
@@ -230,6 +231,7 @@ class CheckContext:
         self.mission_variables: dict = {}
         self.all_variables: set[str] = set()
         self.in_target = False
+        self.instance_notes: dict[int, tuple[ast.Instance, str]] = {}
 
     def source_of(self, span: Span | None) -> SourceFile:
         """The file a span is in."""

@@ -177,6 +177,11 @@ class Expander:
 
 
 def instance_note(ctx: CheckContext, instance: ast.Instance) -> str:
-    """``in approach(left_tool, pickup_point) at two_parts.mission:22:12``."""
-    return f"in {instance_text(instance)} at " \
-           f"{instance.span.location(ctx.source_of(instance.span).path)}"
+    """``in approach(left_tool, pickup_point) at two_parts.mission:22:12``, written once
+    per instance node (kept in ``ctx.instance_notes`` with the node, by its identity)."""
+    known = ctx.instance_notes.get(id(instance))
+    if known is None:
+        known = (instance, f"in {instance_text(instance)} at "
+                           f"{instance.span.location(ctx.source_of(instance.span).path)}")
+        ctx.instance_notes[id(instance)] = known
+    return known[1]
