@@ -95,15 +95,14 @@ def _machine_text(graph: nx.DiGraph, info: MachineInfo) -> str:
 
 def _check_machine(ctx: CheckContext, graph: nx.DiGraph, info: MachineInfo,
                    decls: dict, outcomes: bool = True) -> None:
-    from ..compile.state_graph import machine_graph
+    from ..compile.state_graph import reached
 
     start = info.start
     if start is None:
         return
     _located(ctx, decls, info.path)
     root = info.owner is None
-    sub = machine_graph(graph, info.path)
-    reachable = nx.descendants(sub, start) | {start}
+    reachable = reached(graph, frozenset(info.states), start)
     for path in info.states:
         if path not in reachable:
             ctx.warning("unreachable-state", f"state '{graph.nodes[path]['name']}' cannot be "
@@ -120,19 +119,23 @@ def _check_machine(ctx: CheckContext, graph: nx.DiGraph, info: MachineInfo,
                 else "only its parent's clauses can leave it: add a final its parent reads")
                if finals else "declare one: final done")
     if root:
-        _check_ways_out(ctx, sub, reachable, finals)
+        _check_ways_out(ctx, graph, info, reachable, finals)
     elif outcomes:
         _check_outcomes(ctx, graph, info, decls, finals & reachable)
         _check_done(ctx, graph, info, decls, finals & reachable)
 
 
-def _check_ways_out(ctx, sub: nx.DiGraph, reachable: set, finals: set) -> None:
+def _check_ways_out(ctx, graph: nx.DiGraph, info: MachineInfo, reachable: set,
+                    finals: set) -> None:
+    from ..compile.state_graph import reached
+
+    states = frozenset(info.states)
     ending = set(finals)
     for final in finals:
-        ending |= nx.ancestors(sub, final)
-    for path in sorted(reachable - finals, key=lambda p: sub.nodes[p]["span"].line):
-        name, span = sub.nodes[path]["name"], sub.nodes[path]["span"]
-        if sub.out_degree(path) == 0:
+        ending |= reached(graph, states, final, backwards=True)
+    for path in sorted(reachable - finals, key=lambda p: graph.nodes[p]["span"].line):
+        name, span = graph.nodes[path]["name"], graph.nodes[path]["span"]
+        if not any(other in states for other in graph.succ[path]):
             ctx.error("dead-end-state", f"state '{name}' has no way out", span,
                       "add a 'when CONDITION -> STATE' clause or make it 'final'")
         elif finals & reachable and path not in ending:

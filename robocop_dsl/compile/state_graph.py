@@ -160,6 +160,11 @@ def own_clauses(graph: nx.DiGraph, source: str, target: str) -> tuple[Clause, ..
     return tuple(c for c in graph.edges[source, target]["clauses"] if not c.guard)
 
 
-def machine_graph(graph: nx.DiGraph, path: str) -> nx.DiGraph:
-    """The subgraph of the states of one machine (a view)."""
-    return graph.subgraph(graph.graph["machines"][path].states)
+def reached(graph: nx.DiGraph, states: frozenset[str], source: str,
+            backwards: bool = False) -> set[str]:
+    """``source`` and the ``states`` (those of its machine) that clauses lead to from
+    ``source``, at any distance, through ``states`` (``backwards``: that lead to it)."""
+    adjacent = graph.pred if backwards else graph.succ
+    edges = nx.generic_bfs_edges(graph, source, lambda path: (
+        other for other in adjacent[path] if other in states))
+    return {source, *(other for _, other in edges)}
