@@ -102,8 +102,10 @@ def _add_machine(graph: nx.DiGraph, machine: ast.Machine, path: str, owner: str 
     for state in machine.states:
         states.setdefault(state.name.text, state)
     start = machine_start(machine)
-    guards = tuple(Guard(format_condition(g.condition), join(path, g.target.text), g.span)
-                   for g in machine.guards if g.target.text in states)
+    machine_guards = [(g, True, format_condition(g.condition) if g.target.text in states
+                       else None) for g in machine.guards]
+    guards = tuple(Guard(text, join(path, g.target.text), g.span)
+                   for g, _, text in machine_guards if text is not None)
     graph.graph["machines"][path] = MachineInfo(
         path, owner, region, join(path, start) if start in states else None,
         tuple(join(path, n) for n in states), guards)
@@ -116,16 +118,15 @@ def _add_machine(graph: nx.DiGraph, machine: ast.Machine, path: str, owner: str 
             inner_path = join(state_path, inner.name.text) if inner.name else state_path
             _add_machine(graph, region_machine(inner), inner_path, state_path,
                          inner.name.text if inner.name else None)
-    machine_guards = [(g, True) for g in machine.guards]
     for name, state in states.items():
         if state.final:
             continue
-        ordered = [(t, False) for t in state.transitions] + machine_guards
-        for order, (transition, guard) in enumerate(ordered):
+        ordered = [(t, False, None) for t in state.transitions] + machine_guards
+        for order, (transition, guard, text) in enumerate(ordered):
             if transition.target.text not in states:
                 continue
-            clause = Clause(format_condition(transition.condition), transition.span, guard,
-                            order)
+            clause = Clause(format_condition(transition.condition) if text is None else text,
+                            transition.span, guard, order)
             _add_clause(graph, join(path, name), join(path, transition.target.text), clause)
 
 
