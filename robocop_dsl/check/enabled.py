@@ -91,9 +91,12 @@ def _machine(graph: nx.DiGraph, info, decls: dict, initial: frozenset, inside: d
         path = pending.pop()
         queued.discard(path)
         state = decls[path]
-        inside[path] = _apply((state.block("enter"), state.block("during")),
+        blocks: dict[str, ast.ActionBlock] = {}
+        for block in state.blocks:
+            blocks.setdefault(block.kind, block)
+        inside[path] = _apply((blocks.get("enter"), blocks.get("during")),
                               arriving[path]) | enabled_within(state, memo)
-        leaving = _apply((state.block("exit"),), inside[path])
+        leaving = _apply((blocks.get("exit"),), inside[path])
         for successor in graph.successors(path):
             if successor not in states:
                 continue
