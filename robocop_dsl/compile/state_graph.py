@@ -89,26 +89,61 @@ def build_state_graph(mission: ast.Mission) -> nx.DiGraph:
     """The graph of ``mission``'s machines (an expanded tree: behaviour instances bound);
     clauses to unknown states are left out, a repeated state name keeps the first."""
     graph = nx.DiGraph(start=None, guards=(), machines={})
-    _add_machine(graph, mission.machine, "", None, None, root=True)
+    _add_machine(graph, mission.machine, "", None, None, {}, root=True)
     root = graph.graph["machines"][""]
     graph.graph["start"] = root.start
     graph.graph["guards"] = root.guards
     return graph
 
 
-def _add_machine(graph: nx.DiGraph, machine: ast.Machine, path: str, owner: str | None,
-                 region: str | None, root: bool = False) -> None:
+@dataclass(frozen=True)
+class _Shape:
+    """What a machine puts in the graph wherever it is, by local names: its states (the
+    first of each name), its start, its top-level clauses that lead to one of its
+    states (with their text) and its edges' clauses, edges in the order first met."""
+
+    states: dict[str, ast.StateDecl]
+    start: str | None
+    guards: tuple[tuple[str, ast.Transition], ...]
+    edges: dict[tuple[str, str], tuple[Clause, ...]]
+
+
+def _shape(machine: ast.Machine) -> _Shape:
     states: dict[str, ast.StateDecl] = {}
     for state in machine.states:
         states.setdefault(state.name.text, state)
-    start = machine_start(machine)
     machine_guards = [(g, True, format_condition(g.condition) if g.target.text in states
                        else None) for g in machine.guards]
-    guards = tuple(Guard(text, join(path, g.target.text), g.span)
-                   for g, _, text in machine_guards if text is not None)
+    edges: dict[tuple[str, str], tuple[Clause, ...]] = {}
+    for name, state in states.items():
+        if state.final:
+            continue
+        ordered = [(t, False, None) for t in state.transitions] + machine_guards
+        for order, (transition, guard, text) in enumerate(ordered):
+            target = transition.target.text
+            if target not in states:
+                continue
+            clause = Clause(format_condition(transition.condition) if text is None else text,
+                            transition.span, guard, order)
+            edges[name, target] = edges.get((name, target), ()) + (clause,)
+    guards = tuple((text, g) for g, _, text in machine_guards if text is not None)
+    return _Shape(states, machine_start(machine), guards, edges)
+
+
+def _add_machine(graph: nx.DiGraph, machine: ast.Machine, path: str, owner: str | None,
+                 region: str | None, shapes: dict, root: bool = False) -> None:
+    """Add ``machine`` at ``path`` and the machines in its states; ``shapes`` keeps each
+    machine's :class:`_Shape` (with the machine, by its identity): an expanded tree
+    shares one machine between the instances that bind the same values."""
+    known = shapes.get(id(machine))
+    if known is None:
+        known = shapes[id(machine)] = (machine, _shape(machine))
+    shape = known[1]
+    states, start = shape.states, shape.start
     graph.graph["machines"][path] = MachineInfo(
         path, owner, region, join(path, start) if start in states else None,
-        tuple(join(path, n) for n in states), guards)
+        tuple(join(path, n) for n in states),
+        tuple(Guard(text, join(path, g.target.text), g.span) for text, g in shape.guards))
     for name, state in states.items():
         state_path = join(path, name)
         graph.add_node(state_path, name=name, machine=path, final=state.final,
@@ -117,17 +152,9 @@ def _add_machine(graph: nx.DiGraph, machine: ast.Machine, path: str, owner: str 
         for inner in state.regions:
             inner_path = join(state_path, inner.name.text) if inner.name else state_path
             _add_machine(graph, region_machine(inner), inner_path, state_path,
-                         inner.name.text if inner.name else None)
-    for name, state in states.items():
-        if state.final:
-            continue
-        ordered = [(t, False, None) for t in state.transitions] + machine_guards
-        for order, (transition, guard, text) in enumerate(ordered):
-            if transition.target.text not in states:
-                continue
-            clause = Clause(format_condition(transition.condition) if text is None else text,
-                            transition.span, guard, order)
-            _add_clause(graph, join(path, name), join(path, transition.target.text), clause)
+                         inner.name.text if inner.name else None, shapes)
+    for (source, target), clauses in shape.edges.items():
+        _add_clauses(graph, join(path, source), join(path, target), clauses)
 
 
 def _outcome(state: ast.StateDecl, root: bool) -> str | None:
@@ -146,14 +173,22 @@ def _kind(state: ast.StateDecl) -> str:
     return "compound" if state.regions else "simple"
 
 
-def _add_clause(graph: nx.DiGraph, source: str, target: str, clause: Clause) -> None:
+def _add_clauses(graph: nx.DiGraph, source: str, target: str,
+                 clauses: tuple[Clause, ...]) -> None:
     if graph.has_edge(source, target):
         data = graph.edges[source, target]
-        data["clauses"] = data["clauses"] + (clause,)
-        data["condition"] = " or ".join(f"({c.condition})" for c in data["clauses"])
+        data["clauses"] = data["clauses"] + clauses
+        data["condition"] = _condition(data["clauses"])
         return
-    graph.add_edge(source, target, condition=clause.condition, span=clause.span,
-                   clauses=(clause,))
+    graph.add_edge(source, target, condition=_condition(clauses), span=clauses[0].span,
+                   clauses=clauses)
+
+
+def _condition(clauses: tuple[Clause, ...]) -> str:
+    """The text of an edge's clauses: each in parentheses, joined with ``or``."""
+    if len(clauses) == 1:
+        return clauses[0].condition
+    return " or ".join(f"({c.condition})" for c in clauses)
 
 
 def own_clauses(graph: nx.DiGraph, source: str, target: str) -> tuple[Clause, ...]:
