@@ -257,11 +257,12 @@ def _check_enabled(ctx: CheckContext, graph: nx.DiGraph, decls: dict) -> None:
                                 task.span, f"add 'enable {task.text}' to an enter block on "
                                 "the way")
     for info in graph.graph["machines"].values():
-        if ("guards", info.path) not in decls:
+        guards = decls.get(("guards", info.path))
+        if not guards:
             continue
         _located(ctx, decls, info.path)
         anywhere = frozenset().union(*(inside[p] for p in info.states if p in inside))
-        for guard in decls[("guards", info.path)]:
+        for guard in guards:
             for task in tasks_read(guard.condition):
                 if task.text in ctx.symbols.tasks and task.text not in anywhere:
                     ctx.warning("task-never-enabled", f"task '{task.text}' is read by a "
