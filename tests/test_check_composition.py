@@ -63,6 +63,44 @@ def test_a_problem_in_an_imported_behaviour_is_reported_in_its_file():
     assert diagnostic.notes[0].endswith("composite_library_behavior_problem.mission:7:13")
 
 
+def test_instances_binding_the_same_values_each_report_the_problem_with_their_note(
+        tmp_path):
+    """Instances of a behaviour with the same arguments are expanded once: their
+    problem is the one of those arguments, with a note naming an instance that binds
+    them; an instance with other arguments has the problem of its own."""
+    path = _write(tmp_path, "m.mission", """
+        mission m "One behaviour, three instances."
+        world "bazar/sophia.yaml"
+        task left_tool: body_pose(bazar_left_hankamp_tool_object_side) {
+            feedback = proportional(gain = 5)
+        }
+        task arms: joint_position(bazar_arms)
+        behavior settle(tool: task) {
+            state going {
+                when tool.error < 1 mm -> there
+            }
+            final there
+        }
+        state first: settle(left_tool) {
+            enter { enable left_tool }
+            when first.there -> second
+        }
+        state second: settle(left_tool) {
+            when second.there -> third
+        }
+        state third: settle(arms) {
+            when third.there -> done
+        }
+        final done
+        """)
+    result = check_file(path, cache=CACHE)
+    [mixed] = _only(result, "mixed-error")
+    [wrong] = _only(result, "wrong-dimension")
+    assert mixed.span.line == wrong.span.line == 9
+    assert mixed.notes == (f"in settle(left_tool) at {path}:13:14",)
+    assert wrong.notes == (f"in settle(arms) at {path}:20:14",)
+
+
 def test_nested_instances_give_one_note_each_innermost_first(tmp_path):
     _write(tmp_path, "lib.mission", """
         library lib "Behaviours in behaviours."
