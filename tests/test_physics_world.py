@@ -175,13 +175,30 @@ def test_a_free_model_without_mass(tmp_path):
     assert not (tmp_path / "out.xml").exists()
 
 
-@pytest.mark.parametrize("mesh, text", [("shape.dae", "<COLLADA/>"),
-                                        ("shape.stl", "not an STL file")])
-def test_a_mesh_mujoco_cannot_read(tmp_path, mesh, text):
-    """A collision mesh in a format MuJoCo does not read, or a broken one: an error at
-    the link that uses it."""
-    (tmp_path / mesh).write_text(text)
-    write(tmp_path, "meshy.urdf", f"""
+_PLY = """ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+element face 4
+property list uchar int vertex_indices
+end_header
+0 0 0
+0.1 0 0
+0 0.1 0
+0 0 0.1
+3 0 2 1
+3 0 1 3
+3 0 3 2
+3 1 2 3
+"""
+
+
+def meshy_world(folder: Path, mesh: str, text: str) -> Path:
+    """A world of one link whose collision mesh is ``mesh``, holding ``text``."""
+    (folder / mesh).write_text(text)
+    write(folder, "meshy.urdf", f"""
         <robot name="meshy">
           <link name="base"/>
           <link name="body">
@@ -194,13 +211,32 @@ def test_a_mesh_mujoco_cannot_read(tmp_path, mesh, text):
           </joint>
         </robot>
     """)
-    world = write(tmp_path, "w.yaml", "models:\n  - path: meshy.urdf\n")
+    return write(folder, "w.yaml", "models:\n  - path: meshy.urdf\n")
+
+
+def test_a_mesh_mujoco_cannot_read(tmp_path):
+    """A collision mesh in a format MuJoCo does not read (PLY, which the collision
+    geometry's loader reads): an error at the link that uses it."""
+    world = load_world(meshy_world(tmp_path, "shape.ply", _PLY))
     with pytest.raises(DiagnosticError) as error:
-        physics_model(load_world(world))
+        physics_model(world)
     (diagnostic,) = error.value.diagnostics
     assert diagnostic.code == "physics-error"
     assert Path(diagnostic.file).name == "meshy.urdf" and diagnostic.span.line == 3
-    assert f"cannot read the collision mesh '{mesh}' of link 'body'" in diagnostic.message
+    assert "cannot read the collision mesh 'shape.ply' of link 'body'" in diagnostic.message
+
+
+@pytest.mark.parametrize("mesh, text", [("shape.dae", "<COLLADA/>"),
+                                        ("shape.stl", "not an STL file")])
+def test_a_broken_mesh_is_an_error_of_the_world(tmp_path, mesh, text):
+    """A collision mesh that no loader reads is an error where the URDF names it, as
+    the world loads (before any physics)."""
+    with pytest.raises(DiagnosticError) as error:
+        load_world(meshy_world(tmp_path, mesh, text))
+    (diagnostic,) = error.value.diagnostics
+    assert diagnostic.code == "mesh-error"
+    assert Path(diagnostic.file).name == "meshy.urdf" and diagnostic.span.line == 5
+    assert f"cannot load mesh '{mesh}' of link 'body'" in diagnostic.message
 
 
 def test_driver_options_are_checked_with_the_world(tmp_path):
