@@ -70,17 +70,25 @@ def refusal(path: str | Path, kind: tuple[str, ...]) -> str | None:
     expected = " or ".join(kind)
     if name.suffix.lower() not in kind:
         return f"not {_KIND_NAMES[kind]} file (the name must end with {expected})"
+    return file_refusal(name, kind, expected, MAX_SOURCE_BYTES)
+
+
+def file_refusal(path: Path, suffixes: tuple[str, ...], expected: str,
+                 limit: int | None = None) -> str | None:
+    """Why ``path`` is no regular file whose target's name ends with one of
+    ``suffixes`` (``expected`` names them in the message) and of at most ``limit``
+    bytes, or ``None``. Only ``stat`` is asked; the file is not opened."""
     try:
-        target = name.resolve()
-        info = os.stat(name)
+        target = path.resolve()
+        info = os.stat(path)
     except (OSError, RuntimeError, ValueError) as error:
         return getattr(error, "strerror", None) or str(error)
-    if target.suffix.lower() not in kind:
+    if target.suffix.lower() not in suffixes:
         return f"it links to a file whose name does not end with {expected}"
     if not stat.S_ISREG(info.st_mode):
         return "not a regular file"
-    if info.st_size > MAX_SOURCE_BYTES:
-        return f"larger than {MAX_SOURCE_BYTES} bytes"
+    if limit is not None and info.st_size > limit:
+        return f"larger than {limit} bytes"
     return None
 
 

@@ -29,3 +29,23 @@ def write(folder, name, text):
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(textwrap.dedent(text).lstrip("\n"))
     return path
+
+
+ONE_LINK_ARM = """\
+<robot name="arm">
+  <link name="base"/>
+  <link name="l3">
+    {element}
+  </link>
+  <joint name="j3" type="fixed"><parent link="base"/><child link="l3"/></joint>
+</robot>
+"""
+"""A URDF of a link 'l3' fixed to 'base', holding ``element`` (a visual or collision)."""
+AVOIDING_MISSION = """\
+mission m
+world "w.yaml"
+constraint clear: collision_avoidance(l3, base)
+state s { when elapsed > 1 s -> done }
+final done
+"""
+"""A mission keeping 'l3' clear of 'base' in the world 'w.yaml' beside it."""

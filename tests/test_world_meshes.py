@@ -14,26 +14,10 @@ from robocop_dsl.compile import WorldCache, check_file
 from robocop_dsl.diagnostics import DiagnosticError
 from robocop_dsl.world import load_world
 
-from conftest import write
+from conftest import AVOIDING_MISSION, ONE_LINK_ARM, write
 
 REPO = Path(__file__).resolve().parent.parent
 WORLDS = REPO / "tests" / "fixtures" / "worlds"
-ARM = """\
-<robot name="arm">
-  <link name="base"/>
-  <link name="l3">
-    <{kind}><geometry><mesh filename="{mesh}"/></geometry></{kind}>
-  </link>
-  <joint name="j3" type="fixed"><parent link="base"/><child link="l3"/></joint>
-</robot>
-"""
-MISSION = """\
-mission m
-world "w.yaml"
-constraint clear: collision_avoidance(l3, base)
-state s { when elapsed > 1 s -> done }
-final done
-"""
 TETRAHEDRON = """solid t
 facet normal 0 0 -1
 outer loop
@@ -77,8 +61,9 @@ def _private_cache(tmp_path, monkeypatch):
 
 
 def arm_world(folder: Path, mesh: str, kind: str = "collision") -> Path:
-    write(folder, "arm.urdf", ARM.format(mesh=mesh, kind=kind))
-    write(folder, "m.mission", MISSION)
+    write(folder, "arm.urdf", ONE_LINK_ARM.format(
+        element=f'<{kind}><geometry><mesh filename="{mesh}"/></geometry></{kind}>'))
+    write(folder, "m.mission", AVOIDING_MISSION)
     return write(folder, "w.yaml", "models:\n  - path: arm.urdf\n")
 
 

@@ -8,25 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from conftest import write
+from conftest import AVOIDING_MISSION, ONE_LINK_ARM, write
 
 REPO = Path(__file__).resolve().parent.parent
-ARM = """\
-<robot name="arm">
-  <link name="base"/>
-  <link name="l3">
-    <collision>{shape}</collision>
-  </link>
-  <joint name="j3" type="fixed"><parent link="base"/><child link="l3"/></joint>
-</robot>
-"""
-MISSION = """\
-mission m
-world "w.yaml"
-constraint clear: collision_avoidance(l3, base)
-state s { when elapsed > 1 s -> done }
-final done
-"""
 OF = "of the <collision> of link 'l3'"
 
 
@@ -61,9 +45,9 @@ def test_a_shape_urdfdom_would_drop_is_located_in_every_command(tmp_path, shape,
                                                                  message):
     """Before, ``world`` said ``collision bodies (0)`` and ``check`` that 'l3' has no
     collision geometry, at the mission."""
-    write(tmp_path, "arm.urdf", ARM.format(shape=shape))
+    write(tmp_path, "arm.urdf", ONE_LINK_ARM.format(element=f"<collision>{shape}</collision>"))
     write(tmp_path, "w.yaml", "models:\n  - path: arm.urdf\n")
-    write(tmp_path, "m.mission", MISSION)
+    write(tmp_path, "m.mission", AVOIDING_MISSION)
     for command, target, code in (("world", "w.yaml", 1), ("check", "m.mission", 1),
                                   ("run", "m.mission", 2)):
         done = cli(command, target, cwd=tmp_path)

@@ -254,6 +254,8 @@ class Recovery:
         ``brace`` to index ``end`` of ``text``, just past its ``}``): its contents are
         parsed after a header of its kind (the nearest keyword to the header's first
         word), their lines the file's."""
+        if end <= _line_end(text, brace.end_pos):     # a one-line block: nothing inside
+            return
         header = code_of(text[text.rfind("\n", 0, brace.start_pos) + 1:brace.start_pos])
         words = header.split()
         kind = difflib.get_close_matches(words[0], _BODIES, n=1, cutoff=0.6) if words else []

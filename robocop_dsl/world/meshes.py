@@ -15,12 +15,12 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import stat
 import tempfile
 from pathlib import Path
 
 from .. import __version__
 from ..resources import private_cache_file
+from ..sources import file_refusal
 
 MESH_SUFFIXES = (".stl", ".dae", ".obj", ".ply", ".msh")
 """Mesh formats: those assimp reads that URDFs use, and MuJoCo's own."""
@@ -38,16 +38,7 @@ def mesh_refusal(name: str, path: Path) -> str | None:
     expected = ", ".join(MESH_SUFFIXES)
     if Path(name).suffix.lower() not in MESH_SUFFIXES:
         return f"not a mesh file (the name must end with {expected})"
-    try:
-        target = path.resolve()
-        info = os.stat(path)
-    except (OSError, RuntimeError, ValueError) as error:
-        return getattr(error, "strerror", None) or str(error)
-    if target.suffix.lower() not in MESH_SUFFIXES:
-        return f"it links to a file whose name does not end with {expected}"
-    if not stat.S_ISREG(info.st_mode):
-        return "not a regular file"
-    return None
+    return file_refusal(path, MESH_SUFFIXES, expected)
 
 
 def load_problems(paths: list[Path]) -> dict[Path, str]:
