@@ -50,6 +50,24 @@ def test_vector_may_span_lines_after_commas():
     assert assign.value == ast.Vector((1.0, 2.0, 3.0), ast.Name("deg"))
 
 
+def test_a_closing_bracket_may_start_its_own_line():
+    """A vector, a call's arguments and a parenthesised condition may close on a line of
+    their own, after comments and blank lines; a ')' in a comment closes nothing."""
+    mission = _parse("let v = [1, 2,\n        3  # three\n\n  # note\n] deg\n"
+                     "task t: body_pose(b) {\n"
+                     "    interpolator = otg(max_velocity = 1 m/s,\n"
+                     "                       max_acceleration = 2 m/s^2\n"
+                     "    )\n}\n"
+                     "when (a.reached and\n      b.reached\n) -> s  # (done)\n"
+                     "# not a close )\nlet w = 1\n")
+    assert mission.items[0].value == ast.Vector((1.0, 2.0, 3.0), ast.Name("deg"))
+    otg = mission.tasks[0].parameters[0].value
+    assert [argument.name.text for argument in otg.arguments] == ["max_velocity",
+                                                                   "max_acceleration"]
+    assert isinstance(mission.guards[0].condition, ast.And)
+    assert mission.items[-1].name.text == "w"
+
+
 def test_condition_may_break_after_and():
     """A condition continues on the next line after 'and'."""
     mission = _parse("when a.reached and\n   b.reached -> s\n")

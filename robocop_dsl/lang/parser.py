@@ -43,8 +43,9 @@ class StatementBreaks(PostLex):
     and give reserved words their keyword type wherever they appear.
 
     A line may break after ``and``, ``or`` and ``not``, and inside brackets after ``(``,
-    ``[`` or ``,``; any other newline ends the statement and forgets the brackets, so a
-    missing ``]`` does not swallow the following lines.
+    ``[`` or ``,``; a break before a line that starts with ``]`` or ``)`` never reaches
+    this (the grammar ignores it); any other newline ends the statement and forgets the
+    brackets, so a missing ``]`` does not swallow the following lines.
     """
 
     always_accept = ("_NL", "NAME")
