@@ -46,7 +46,9 @@ def check_behavior_declarations(ctx: CheckContext, behaviors: dict[str, ast.Beha
                           f"first declared as '{parameter.name.text}: "
                           f"{seen[parameter.name.text].kind.text}'")
             seen.setdefault(parameter.name.text, parameter)
-            if parameter.kind.text not in KINDS:
+            if ctx.measure_name(parameter.name, "parameter"):
+                bad.add((behavior.name.text, parameter.name.text))
+            elif parameter.kind.text not in KINDS:
                 ctx.unknown("unknown-parameter-kind", "parameter kind", parameter.kind, KINDS,
                             "kinds: " + ", ".join(KINDS))
                 bad.add((behavior.name.text, parameter.name.text))

@@ -35,6 +35,8 @@ def declared_constants(ctx: CheckContext, mission: ast.Mission) -> dict[str, Bin
                       let.name.span, f"first declared at {ctx.where(declared[name].span)}")
             continue
         declared[name] = let
+        if ctx.measure_name(let.name, "constant"):
+            continue
         kind = kind_of_name(ctx, name)
         if kind in ("task", "constraint", "event"):
             first = ctx.symbols.tasks.get(name) or ctx.symbols.constraints.get(name)

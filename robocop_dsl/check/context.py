@@ -16,6 +16,8 @@ from ..lang.follow_on import Broken
 from ..lang.units import ANGLE, LENGTH
 
 _ROTATIONAL = ("revolute", "continuous")
+MEASURES = {"elapsed": "the time spent in the state", "time": "the mission time"}
+"""The words of measures that conditions and expressions read without brackets."""
 NAMED = ("task", "constraint", "task or constraint", "body", "joint group", "event", "state",
          "behavior")
 
@@ -269,6 +271,17 @@ class CheckContext:
             return
         hint = did_you_mean(name.text, candidates) or extra or None
         self.error(code, f"unknown {what} '{name.text}'{where}", name.span, hint)
+
+    def measure_name(self, name: ast.Name, what: str) -> bool:
+        """Report a ``what`` (a constant, a var, a parameter) named ``elapsed`` or
+        ``time``: conditions and expressions read those words as the measures, so it could
+        never be read. True when it was reported."""
+        if name.text not in MEASURES:
+            return False
+        self.error("reserved-name", f"{what} '{name.text}' can never be read: "
+                   f"'{name.text}' is {MEASURES[name.text]} wherever a value is read",
+                   name.span, "give it another name")
+        return True
 
 
 def _located(span: Span | None) -> Span | None:

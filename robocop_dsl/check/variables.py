@@ -110,7 +110,7 @@ def declared_variables(ctx: CheckContext, machine: ast.Machine,
                       f"first declared at {ctx.where(first.span)}")
             continue
         own[name] = decl
-        if kind is None:
+        if kind is None or ctx.measure_name(decl.name, "var"):
             continue
         typed = Typed(kind[0], kind[1], decl.kind.text == "count")
         if decl.value is not None:
