@@ -119,3 +119,45 @@ def test_a_time_step_too_short_to_be_meant_is_refused(tmp_path):
     done = cli("world", world)
     assert done.returncode == 1 and "Traceback" not in done.stderr
     assert "'time_step' must be at least 10us, not 1e-12s" in done.stderr
+
+
+def test_limits_as_large_as_a_float_print_no_numpy_warning(tmp_path):
+    """URDF limits of 1e308 are numbers like any other: ``world`` prints them unbounded
+    and a run bounds its commands without an overflow warning on the terminal."""
+    write(tmp_path, "arm.urdf", ARM.format(type="revolute", upper="1e308", velocity="1e308")
+          .replace('lower="-1"', 'lower="-1e308"'))
+    world = write(tmp_path, "w.yaml", """
+        models:
+          - path: arm.urdf
+        joint_groups:
+          arm: [j1]
+        processors:
+          controller:
+            type: qp_controller
+            options: {joint_group: arm, time_step: 2ms, driver: sim}
+          sim:
+            type: simulated
+            options: {joint_group: arm}
+    """)
+    mission = write(tmp_path, "m.mission", """
+        mission m
+        world "w.yaml"
+        task t: joint_position(arm) {
+            interpolator = otg(max_velocity = 1 rad/s, max_acceleration = 1 rad/s^2)
+        }
+        start s
+        state s {
+            enter {
+                enable t
+                t.target = [1] rad
+            }
+            when t.reached -> done
+        }
+        final done
+    """)
+    shown = cli("world", world)
+    assert shown.returncode == 0 and "j1  revolute   unbounded" in shown.stdout
+    done = cli("run", mission)
+    assert done.returncode == 0 and "outcome: success" in done.stdout
+    for output in (shown, done):
+        assert "Warning" not in output.stderr, output.stderr

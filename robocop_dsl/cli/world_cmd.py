@@ -131,10 +131,11 @@ def _limits(joint) -> str:
         return f"mimics {joint.mimic}" if joint.mimic else ""
     unit, scale, digits = (("m", 1.0, 3) if joint.type == "prismatic"
                            else ("deg", 180 / math.pi, 1))
-    low, high, speed = joint.lower[0], joint.upper[0], joint.max_velocity[0]
-    span = (f"[{low * scale:.{digits}f}, {high * scale:.{digits}f}] {unit}"
+    low, high, speed = (float(value) * scale for value in
+                        (joint.lower[0], joint.upper[0], joint.max_velocity[0]))
+    span = (f"[{low:.{digits}f}, {high:.{digits}f}] {unit}"
             if math.isfinite(low) and math.isfinite(high) else "unbounded")
-    rate = f", {speed * scale:.{digits}f} {unit}/s" if math.isfinite(speed) else ""
+    rate = f", {speed:.{digits}f} {unit}/s" if math.isfinite(speed) else ""
     return span + rate
 
 

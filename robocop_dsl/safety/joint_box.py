@@ -38,7 +38,9 @@ class JointBox:
         share = np.where(finite, self._acceleration, 0.0) * BRAKING_SHARE
         self._braking = (2.0 * share, 0.5 * time_step * share) if finite.any() else None
         self._unlimited = np.flatnonzero(~finite)
-        self._limit = np.concatenate((limits.upper, -np.asarray(limits.lower)))
+        limit = np.concatenate((limits.upper, -np.asarray(limits.lower)))
+        reach = np.finfo(float).max * time_step / 4     # farther: bounds would overflow
+        self._limit = np.where(np.isfinite(limit), np.clip(limit, -reach, reach), limit)
         self._distance = np.zeros(2 * n)
         self._toward = np.zeros(2 * n)
         self._bound = np.zeros(2 * n)
