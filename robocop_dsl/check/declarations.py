@@ -5,9 +5,10 @@ from __future__ import annotations
 from ..diagnostics import Span
 from ..lang import ast
 from ..lang.catalogue import COLLISION_SETS, CONSTRAINTS, JOINT_GROUP, TASKS, Registry
+from ..world.processors import DRIVER_TYPES
 from .collisions import check_collision_constraint
 from .context import CheckContext
-from .controllers import cascade_controllers
+from .controllers import cascade_controllers, mission_controllers
 from .parameters import Subject, check_body, check_parameters
 
 _SINGLE = ((ast.MissionHeader, "mission header"), (ast.LibraryHeader, "library header"),
@@ -107,16 +108,42 @@ def check_controller(ctx: CheckContext, mission: ast.Mission) -> None:
                      if declared.name.text in processors else
                      "controllers: " + (", ".join(names) or "none"))
             ctx.unknown("unknown-controller", "controller", declared.name, names, extra)
-        return
-    world = mission.first(ast.WorldDecl)
-    span = world.path.span if world else None
-    if not names:
-        ctx.error("missing-controller", "the world has no qp_controller processor", span,
-                  "add one under processors: in the world file")
-    elif len(names) > 1 and not cascade_controllers(ctx.world):
-        ctx.error("missing-controller", "the world has several controllers: "
-                  + ", ".join(names), span, "choose one with: controller NAME (controllers "
-                  "on disjoint joint groups run cascaded when the mission names none)")
+    else:
+        world = mission.first(ast.WorldDecl)
+        span = world.path.span if world else None
+        if not names:
+            ctx.error("missing-controller", "the world has no qp_controller processor",
+                      span, "add one under processors: in the world file")
+        elif len(names) > 1 and not cascade_controllers(ctx.world):
+            ctx.error("missing-controller", "the world has several controllers: "
+                      + ", ".join(names), span, "choose one with: controller NAME "
+                      "(controllers on disjoint joint groups run cascaded when the mission "
+                      "names none)")
+    _check_drivers(ctx, mission)
+
+
+def _check_drivers(ctx: CheckContext, mission: ast.Mission) -> None:
+    """Each controller the mission runs has a driver: the one on its joint group, or,
+    run alone, the world's only driver processor."""
+    processors = ctx.world.world.processors
+    controllers = [name for name in mission_controllers(ctx.world, mission)
+                   if name in ctx.world.controller_names()]
+    drivers = [name for name, processor in processors.items()
+               if processor.type in DRIVER_TYPES]
+    declared = mission.first(ast.ControllerDecl) or mission.first(ast.WorldDecl)
+    span = declared.name.span if isinstance(declared, ast.ControllerDecl) else (
+        declared.path.span if declared else None)
+    for name in controllers:
+        processor = processors[name]
+        if processor.driver is not None or (len(controllers) == 1 and len(drivers) == 1):
+            continue
+        group = processor.options.get("joint_group")
+        found = (f"the world's driver processors: {', '.join(drivers)}" if drivers
+                 else "the world has no driver processor")
+        ctx.error("missing-driver", f"no driver for the controller '{name}': no driver "
+                  f"processor drives its joint group '{group}'", span,
+                  f"{found}; add one on '{group}' (simulated, loopback or mujoco) or "
+                  "name it in the controller's options: driver: NAME")
 
 
 def check_declarations(ctx: CheckContext, mission: ast.Mission) -> None:
