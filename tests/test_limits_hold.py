@@ -41,3 +41,38 @@ def test_logged_commands_keep_every_limit(scene, seed, tmp_path):
     rest = np.zeros((1, len(runner.joint_names)))
     accelerations = np.abs(np.diff(np.vstack([rest, commands, rest]), axis=0)) / runner.time_step
     assert np.all(accelerations <= limits.max_acceleration * (1 + 1e-6) + TOLERANCE)
+
+
+def test_a_task_whose_reference_overflows_brakes_within_the_acceleration_limit(tmp_path):
+    """A gain so large that the pose task's reference velocity is not finite: the cycle
+    is refused (``qp_failure``) and the run brakes from the command it had sent, within
+    the mission's 5 rad/s^2, instead of commanding zero at once. Recomputed from the
+    Parquet log with pyarrow, through the command line."""
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import pyarrow.parquet as pq
+
+    repo = Path(__file__).resolve().parent.parent
+    pickup = (repo / "missions" / "pickup.mission").read_text()
+    mission = tmp_path / "overflow.mission"
+    mission.write_text(pickup.replace('world "bazar/sophia.yaml"',
+                                      f'world "{repo}/robots/bazar/sophia.yaml"')
+                       .replace("proportional(gain = 5)", "proportional(gain = 1e300)"))
+    done = subprocess.run([sys.executable, "-m", "robocop_dsl", "run", str(mission),
+                           "--log", str(tmp_path / "log")], capture_output=True, text=True)
+    assert done.returncode == 1 and "Traceback" not in done.stderr
+    events = [json.loads(line) for line in (tmp_path / "log" / "events.jsonl").open()]
+    failures = [event for event in events if event["kind"] == "qp_failure"]
+    assert len(failures) == 1
+    table = pq.read_table(tmp_path / "log" / "timeseries.parquet")
+    columns = [name for name in table.column_names if name.startswith("command.")]
+    commands = np.column_stack([table[name].to_numpy() for name in columns])
+    steps = np.diff(table["time"].to_numpy())
+    moving = np.abs(commands[failures[0]["cycle"] - 1]).max()
+    assert moving > 0.05            # the arm moved when the cycle was refused
+    accelerations = np.abs(np.diff(commands, axis=0)) / steps[:, None]
+    assert accelerations.max() <= 5.0 * (1 + 1e-6) + TOLERANCE
+    assert "every promise held" in done.stdout

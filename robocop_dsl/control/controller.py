@@ -471,12 +471,17 @@ class Controller:
                                    plan.limits, state.time_step, plan.groups,
                                    state.group.joints)
 
-    def brake(self, q: np.ndarray, dq: np.ndarray | None = None) -> ControlResult:
+    def brake(self, q: np.ndarray, dq: np.ndarray | None = None,
+              previous: np.ndarray | None = None) -> ControlResult:
         """One cycle of a stop at ``q`` (nq): the velocity brought towards zero as fast
         as the acceleration limits allow, every enabled constraint held
         (:mod:`robocop_dsl.safety.braking`); tasks are not computed. The command is
-        zero once at rest."""
+        zero once at rest. ``previous``: the command [rad/s or m/s] sent last, when it
+        is not this controller's last answer (a refused cycle answers zero; a caller
+        that brakes instead did not send it)."""
         start = time.perf_counter()
+        if previous is not None:
+            self.state.previous_command = np.array(previous, dtype=float)
         plan = self._begin(q, dq, start)
         if isinstance(plan, ControlResult):
             return plan

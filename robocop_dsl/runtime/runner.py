@@ -373,7 +373,7 @@ class Runner:
             self._message = f"no QP solution in state '{self.state}': {result.reason}"
             self._notify_event("qp_failure", {"message": result.reason, "state": self.state,
                                               "repeat": self._qp_failures > 1})
-            result = self.controller.brake(self.q)
+            result = self.controller.brake(self.q, previous=self._last_command)
         return result.velocity, result.solved, result.timings.total
 
     def _stopping_command(self) -> np.ndarray:

@@ -53,7 +53,7 @@ class RunGuard:
         self.stopping_cycles += 1
         if hold or self.stopping_cycles > self._stop_cycles:
             return np.zeros(controller.state.dofs)
-        result = controller.brake(q)
+        result = controller.brake(q, previous=last_command)
         self.announce(result, state)
         return result.velocity
 
