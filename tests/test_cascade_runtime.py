@@ -232,3 +232,28 @@ def test_pickup_watches_the_part_on_one_controller():
     assert (result.outcome, result.final_state) == ("success", "done")
     assert len(late) > 1000 and len(errors) == len(late)
     assert max(errors) < 5.0
+
+
+def test_a_refused_head_cycle_brakes_within_the_acceleration_limit(tmp_path):
+    """The head's gaze gain made so large, while the head turns, that its reference is
+    not finite: its controller refuses the cycle and its thread brakes from the command
+    it had sent, within its 5 rad/s^2, instead of writing zero at once."""
+    text = (MISSIONS / "pickup_cascade.mission").read_text()
+    text = text.replace('world "bazar/sophia_cascade.yaml"',
+                        f'world "{MISSIONS.parent / "robots/bazar/sophia_cascade.yaml"}"')
+    text = text.replace("when arms.reached        -> approach", "when elapsed > 0.4 s -> approach")
+    text = text.replace("        enable left_tool\n",
+                        "        enable left_tool\n        watch.gain = 1e300\n", 1)
+    path = tmp_path / "overflow.mission"
+    path.write_text(text)
+    runner = load_mission(path).runner(realtime=False)
+    head = runner.threads[0]
+    sent, write = [], head.driver.write
+    head.driver.write = lambda command: (sent.append(np.array(command, dtype=float)),
+                                         write(command))[1]
+    result = runner.run(realtime=False)
+    assert (result.outcome, result.final_state) == ("failure", "failed")
+    commands = np.array(sent)
+    assert np.abs(commands).max() > 0.2          # the head was turning
+    accelerations = np.abs(np.diff(commands, axis=0)) / HEAD
+    assert accelerations.max() <= 5.0 * (1 + 1e-6) + 1e-6

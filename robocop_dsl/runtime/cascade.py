@@ -322,9 +322,13 @@ class ControllerThread:
         for peer in self.peers:
             peer.copy_state(self.name, q, v)
         self.link.publish_state(q, v)
+        sent = self.controller.state.previous_command
         result = self.controller.compute(q)
+        command = result.velocity
+        if result.status == "no_solution":      # brake from what was sent, not from zero
+            command = self.controller.brake(q, previous=sent).velocity
         try:
-            self.driver.write(result.velocity)
+            self.driver.write(command)
         except RobocopError as error:
             self._fail(f"driver: {error}")
             return
