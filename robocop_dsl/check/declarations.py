@@ -123,27 +123,34 @@ def check_controller(ctx: CheckContext, mission: ast.Mission) -> None:
 
 
 def _check_drivers(ctx: CheckContext, mission: ast.Mission) -> None:
-    """Each controller the mission runs has a driver: the one on its joint group, or,
-    run alone, the world's only driver processor."""
+    """Each controller the mission runs has a driver on its joint group (the one its
+    ``driver:`` option names, or the only one there); cascaded controllers have no
+    ``mujoco`` driver (one physics cannot be split between threads)."""
     processors = ctx.world.world.processors
     controllers = [name for name in mission_controllers(ctx.world, mission)
                    if name in ctx.world.controller_names()]
-    drivers = [name for name, processor in processors.items()
-               if processor.type in DRIVER_TYPES]
+    drivers = {name: processor.options.get("joint_group")
+               for name, processor in processors.items() if processor.type in DRIVER_TYPES}
     declared = mission.first(ast.ControllerDecl) or mission.first(ast.WorldDecl)
     span = declared.name.span if isinstance(declared, ast.ControllerDecl) else (
         declared.path.span if declared else None)
     for name in controllers:
         processor = processors[name]
-        if processor.driver is not None or (len(controllers) == 1 and len(drivers) == 1):
+        driver = processor.driver
+        if driver is not None:
+            if len(controllers) > 1 and processors[driver].type == "mujoco":
+                ctx.error("missing-driver", f"the controllers run cascaded and the driver "
+                          f"'{driver}' of '{name}' is a mujoco one", span,
+                          "one physics cannot be split between the threads of a cascade: "
+                          "run one controller on the physics world (controller NAME)")
             continue
         group = processor.options.get("joint_group")
-        found = (f"the world's driver processors: {', '.join(drivers)}" if drivers
+        found = ("the world's driver processors: " + ", ".join(
+            f"{driver} on '{on}'" for driver, on in drivers.items()) if drivers
                  else "the world has no driver processor")
         ctx.error("missing-driver", f"no driver for the controller '{name}': no driver "
                   f"processor drives its joint group '{group}'", span,
-                  f"{found}; add one on '{group}' (simulated, loopback or mujoco) or "
-                  "name it in the controller's options: driver: NAME")
+                  f"{found}; add one on '{group}' (simulated, loopback or mujoco)")
 
 
 def check_declarations(ctx: CheckContext, mission: ast.Mission) -> None:
