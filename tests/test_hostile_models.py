@@ -161,3 +161,73 @@ def test_limits_as_large_as_a_float_print_no_numpy_warning(tmp_path):
     assert done.returncode == 0 and "outcome: success" in done.stdout
     for output in (shown, done):
         assert "Warning" not in output.stderr, output.stderr
+
+
+@pytest.mark.parametrize("groups, message", [
+    ("hand_fixed: [panda_hand_joint]",
+     "joint group 'hand_fixed' moves nothing: its joints are fixed or mimic others"),
+    ("both: [panda_arm, cube_free]",
+     "joint group 'both' holds the floating joint 'cube_free' (6 dofs): a joint group's "
+     "joints move along or about one axis"),
+])
+def test_joint_groups_that_no_controller_can_command_are_world_errors(tmp_path, groups,
+                                                                     message):
+    """A group of fixed or mimic joints only, or one holding a free body's floating joint,
+    gave tracebacks in ``world`` and ``run`` (and ``check`` passed)."""
+    world = write(tmp_path, "w.yaml", f"""
+        models:
+          - include: panda/panda_on_table.yaml
+          - path: panda/cube.urdf
+            namespace: cube
+            free: true
+            joint: {{position: {{linear: [0.5, 0.0, 0.77]}}, name: cube_free}}
+        joint_groups:
+          {groups}
+    """)
+    mission = write(tmp_path, "m.mission", 'mission m\nworld "w.yaml"\nstart s\n'
+                                           "state s {\n    when elapsed > 1 s -> done\n}\n"
+                                           "final done\n")
+    for command in ("world", "check", "run"):
+        done = cli(command, world if command == "world" else mission)
+        assert done.returncode in (1, 2) and "Traceback" not in done.stderr + done.stdout
+        assert (f"{world}:8:3: error[invalid-entry]: {message}"
+                in done.stdout + done.stderr)
+
+
+def test_a_body_task_in_a_world_of_one_dof(tmp_path):
+    """One prismatic joint: pinocchio's 6 x 1 Jacobian comes back flat, and every body
+    task faulted with an IndexError."""
+    write(tmp_path, "w.yaml", """
+        models:
+          - path: robocop/point.urdf
+          - path: robocop/body.urdf
+            joint: {parent: point, type: prismatic, axis: [1, 0, 0],
+                    limits: {lower: -1, upper: 1, velocity: 1}}
+        joint_groups:
+          g: [point_to_body]
+        processors:
+          controller:
+            type: qp_controller
+            options: {joint_group: g, time_step: 5ms}
+          driver:
+            type: simulated
+            options: {joint_group: g}
+    """)
+    mission = write(tmp_path, "m.mission", """
+        mission m
+        world "w.yaml"
+        task p: body_pose(body) {
+            interpolator = otg(max_velocity = 0.1 m/s, max_acceleration = 1 m/s^2)
+        }
+        start s
+        state s {
+            enter {
+                enable p
+                p.target = pose(position = [0.2, 0, 0] m)
+            }
+            when p.reached -> done
+        }
+        final done
+    """)
+    done = cli("run", mission)
+    assert done.returncode == 0 and "outcome: success" in done.stdout, done.stdout

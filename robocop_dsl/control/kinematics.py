@@ -86,8 +86,8 @@ class Kinematics:
         jacobian = self._jacobians.get(frame_id)
         if jacobian is None:
             jacobian = pin.getFrameJacobian(self.model, self.data, frame_id,
-                                            _LOCAL_WORLD_ALIGNED)
-            self._jacobians[frame_id] = jacobian
+                                            _LOCAL_WORLD_ALIGNED).reshape(6, -1)
+            self._jacobians[frame_id] = jacobian        # 6 x 1 comes back flat
         return jacobian
 
     @property

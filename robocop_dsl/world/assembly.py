@@ -197,6 +197,19 @@ def _resolve_groups(description: WorldDescription, result: Assembly, diagnostics
 
     for name in description.groups:
         resolve(name, (name,))
+    for name, entry in description.groups.items():
+        joints = [result.joints[joint] for joint in resolved[name].joints]
+        wide = [joint for joint in joints if joint.dofs > 1]
+        if wide:
+            diagnostics.append(entry.at.error(
+                "invalid-entry", f"joint group '{name}' holds the {wide[0].type} joint "
+                f"'{wide[0].name}' ({wide[0].dofs} dofs): a joint group's joints move "
+                "along or about one axis",
+                "leave it out: controllers and drivers command one-dof joints"))
+        elif joints and not any(joint.dofs for joint in joints):
+            diagnostics.append(entry.at.error(
+                "invalid-entry", f"joint group '{name}' moves nothing: its joints are fixed "
+                "or mimic others", "list revolute, continuous or prismatic joints"))
     return resolved
 
 

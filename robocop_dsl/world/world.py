@@ -246,7 +246,7 @@ class World:
 
         data = self.model.createData()
         return pin.computeFrameJacobian(self.model, data, q, self.body_frame_id(name),
-                                        pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+                                        pin.ReferenceFrame.LOCAL_WORLD_ALIGNED).reshape(6, -1)
 
 
 def load_world(path: str | Path, relative_to: Path | None = None) -> World:
