@@ -164,7 +164,7 @@ def test_bazar_drops_the_part_it_lets_go_early(tmp_path, drop_point):
 
 def test_a_cascade_is_refused_in_physics(tmp_path):
     """Each controller of a cascade has its own driver; one physics cannot be split
-    between them: the run says so, without a traceback."""
+    between them: the check before the run says so, without a traceback."""
     world = tmp_path / "cascade_physics.yaml"
     world.write_text("models:\n  - include: bazar/sophia_cascade.yaml\nprocessors:\n"
                      "  arms_driver: {type: mujoco, options: {joint_group: bazar_arms}}\n")
@@ -173,4 +173,5 @@ def test_a_cascade_is_refused_in_physics(tmp_path):
     mission.write_text(mission.read_text().replace("exit  { detach part_body }", ""))
     done = run(mission, "--world", world)
     assert done.returncode == 2 and "Traceback" not in done.stderr
-    assert "one physics cannot be split between them" in done.stderr
+    assert "error[missing-driver]" in done.stderr
+    assert "one physics cannot be split between the threads of a cascade" in done.stderr

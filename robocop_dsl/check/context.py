@@ -71,6 +71,13 @@ class WorldNames:
         return self.world is not None and any(
             p.type == "mujoco" for p in self.world.processors.values())
 
+    @property
+    def measures_wrenches(self) -> bool:
+        """Whether a driver of the world can measure wrenches (``mujoco`` from its
+        contacts, ``loopback`` from the robot); ``simulated`` measures none."""
+        return self.world is not None and any(
+            p.type in ("mujoco", "loopback") for p in self.world.processors.values())
+
     def free_bodies(self) -> list[str]:
         """The bodies physics moves (the roots of ``free: true`` models)."""
         return list(self.world.free_bodies()) if self.world else []

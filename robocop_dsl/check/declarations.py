@@ -167,8 +167,16 @@ def check_sensed(ctx: CheckContext, body: ast.Name) -> bool:
     """Whether a force sensor measures ``body`` (reported when the world has none on
     it)."""
     sensed = ctx.world.sensed_bodies()
-    if not ctx.world.known or body.text in sensed or not ctx.world.has_body(body.text):
+    if not ctx.world.known or not ctx.world.has_body(body.text):
         return True
+    if body.text in sensed:
+        if ctx.world.measures_wrenches:
+            return True
+        ctx.error("no-sensor", f"the force sensor on '{body.text}' never has a reading: "
+                  "the world's drivers measure no wrench", body.span,
+                  "a simulated driver measures none: run the mission on a world with a "
+                  "mujoco driver or a loopback robot that reports it (run --world VARIANT)")
+        return False
     ctx.error("no-sensor", f"'{body.text}' has no force sensor", body.span,
               "add one to the world: processors: {NAME: {type: force_sensor, options: "
               f"{{body: {body.text}}}}}}}" + (f" (sensed: {', '.join(sensed)})" if sensed
