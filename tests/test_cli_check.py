@@ -212,3 +212,22 @@ def test_a_library_statement_that_does_not_parse_gets_its_syntax_error_alone(tmp
     [report] = json.loads(capsys.readouterr().out)
     assert [(Path(d["file"]).name, d["code"], d["message"]) for d in report["diagnostics"]] == [
         ("bazar_common.mission", "missing-token", "missing ']' before name 'cm'")]
+
+
+@pytest.mark.parametrize("change, errors", [
+    ("", 1),
+    ("    max_position = [1, 1, 1, -2, 1, 2, 1] rad\n    enabled = false\n", 0),
+    ("state s {\n    enter { disable low }\n", 0),
+])
+def test_two_joint_ranges_apart_are_an_error_only_when_both_start_enabled(tmp_path, capsys,
+                                                                          change, errors):
+    """Two ``joint_kinematic`` ranges that leave a joint no position refuse the first
+    cycle when both are enabled then; enabled apart, they are not an error."""
+    text = (INVALID / "joint_ranges_apart.mission").read_text()
+    if change.startswith("state"):
+        text = text.replace("state s {\n", change)
+    elif change:
+        text = text.replace("    max_position = [1, 1, 1, -2, 1, 2, 1] rad\n", change)
+    (tmp_path / "m.mission").write_text(text)
+    assert check(str(tmp_path / "m.mission")) == (1 if errors else 0)
+    assert capsys.readouterr().out.count("error[inverted-limits]") == errors

@@ -16,6 +16,7 @@ from .expand import Expander
 from .graph_checks import check_behavior_graph, check_state_graph
 from .imports import merge_imports
 from .joint_limits import check_joint_limits, check_start_posture
+from .joint_ranges import check_joint_ranges
 from .regions import check_regions
 from .states import check_machine, check_machines
 from .variables import check_reads
@@ -54,7 +55,7 @@ def check_mission(mission: ast.Mission, source: SourceFile, world=None,
     expanded = expander.mission(merged)
     ctx.all_states = state_names(expanded.machine)
     _stop_if(cancelled)
-    passes = (check_declarations, check_joint_limits, check_start_posture,
+    passes = (check_declarations, check_joint_ranges, check_joint_limits, check_start_posture,
               check_assignment, check_driven, check_machines)
     for check in passes:
         check(ctx, expanded)
