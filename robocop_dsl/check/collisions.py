@@ -24,17 +24,33 @@ def check_collision_constraint(ctx: CheckContext, decl: ast.ConstraintDecl, kind
     numbers = check_parameters(ctx, given, kind, Subject(kind), f"constraint '{decl.name.text}'",
                                decl.name.span)
     values = {name: (value, found[0]) for name, (value, found) in numbers.items() if found}
-    min_distance = values.get("min_distance", (None, kind.parameter("min_distance").default))
-    influence = values.get("influence", (None, kind.parameter("influence").default))
-    if influence[1] <= min_distance[1]:
-        where = influence[0] or min_distance[0] or decl.name
-        ctx.error("wrong-value", f"influence ({_cm(influence[1])}) must be above "
-                  f"min_distance ({_cm(min_distance[1])})", where.span,
-                  "the constraint acts on the pairs between min_distance and influence")
+    ctx.declared.setdefault(decl.name.text, values)
+    if not check_distances(ctx, kind, values, decl.name):
         return
     generic = any(argument.text in ctx.generic for argument in decl.arguments)
     if all(known) and ctx.world.known and not generic:
-        _check_initial_posture(ctx, decl, min_distance[1])
+        _check_initial_posture(ctx, decl, values.get(
+            "min_distance", (None, kind.parameter("min_distance").default))[1])
+
+
+def check_distances(ctx: CheckContext, kind: Kind, values: dict, name: ast.Name,
+                    declared: dict | None = None) -> bool:
+    """Whether ``influence`` is above ``min_distance`` [m] (``values``: name -> (value,
+    metres), else ``declared``'s, else the defaults); reported at the value that
+    ``values`` gives, else at ``name``."""
+    merged = {**(declared or {}), **values}
+    min_distance = merged.get("min_distance", (None, kind.parameter("min_distance").default))
+    influence = merged.get("influence", (None, kind.parameter("influence").default))
+    if influence[1] > min_distance[1]:
+        return True
+    where = next((values[n][0] for n in ("influence", "min_distance") if n in values), name)
+    kept = [f"{n} as given at {ctx.where(declared[n][0].span)}"
+            for n in ("influence", "min_distance") if declared and n in declared
+            and n not in values]
+    ctx.error("wrong-value", f"influence ({_cm(influence[1])}) must be above "
+              f"min_distance ({_cm(min_distance[1])})" + (f", {kept[0]}" if kept else ""),
+              where.span, "the constraint acts on the pairs between min_distance and influence")
+    return False
 
 
 def check_collision_set(ctx: CheckContext, argument: ast.Name) -> bool:
