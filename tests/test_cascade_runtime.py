@@ -257,3 +257,30 @@ def test_a_refused_head_cycle_brakes_within_the_acceleration_limit(tmp_path):
     assert np.abs(commands).max() > 0.2          # the head was turning
     accelerations = np.abs(np.diff(commands, axis=0)) / HEAD
     assert accelerations.max() <= 5.0 * (1 + 1e-6) + 1e-6
+
+
+@pytest.mark.parametrize("reads, code, outcome", [
+    ("    during { e = watch.error }\n    when elapsed > 1 s -> done\n", 0, "success"),
+    ("    when watch.reached -> done\n    when elapsed > 0.5 s -> failed\n", 1, "failure"),
+])
+def test_a_task_of_the_other_controller_read_in_an_action_or_the_summary(tmp_path, reads,
+                                                                        code, outcome):
+    """The head's gaze task read where conditions are not: a var set from its error, and
+    the summary's account of a clause on it when the run fails. Both faulted ("unknown
+    task 'watch'"), the failure turning into a fault (exit 3)."""
+    import subprocess
+    import sys
+
+    world = MISSIONS.parent / "robots/bazar/sophia_cascade.yaml"
+    path = tmp_path / "head.mission"
+    path.write_text(f'mission head\nworld "{world}"\nvar e: angle = 0 rad\n'
+                    "task watch: gaze(kinect2_rgb_optical_frame) {\n"
+                    "    target  = drop_point\n    enabled = true\n"
+                    "    feedback = proportional(gain = 0.1)\n}\n"
+                    f"start s\nstate s {{\n{reads}}}\nfinal done\nfinal failed: failure\n")
+    done = subprocess.run([sys.executable, "-m", "robocop_dsl", "run", str(path)],
+                          capture_output=True, text=True)
+    assert done.returncode == code, done.stdout + done.stderr
+    assert f"outcome: {outcome}" in done.stdout and "unknown task" not in done.stdout
+    if outcome == "failure":
+        assert "watch.reached: no (error " in done.stdout

@@ -218,7 +218,7 @@ def action(spec, remote=None):
     if isinstance(spec, s.EmitAction):
         return lambda runner, event=spec.event: runner.emit(event)
     if isinstance(spec, v.SetVarAction):
-        value = evaluator(spec.value)
+        value = evaluator(spec.value, remote)
         return lambda runner, name=spec.name: runner.assign(name, value(runner, None))
     if spec.fields:
         return lambda runner, log=spec: runner.log(log_text(log, runner))

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 from ..compile import spec as s
 from ..compile import variables as v
+from ..control.exceptions import UnknownName
+from .cascade import TaskStatus as RemoteStatus
 from .clearance import Clearance
 from .records import Observer
 from .variables import evaluator
@@ -255,7 +257,7 @@ class SummaryWatch(Observer):
                               "yes" if holds else f"no ({self._error_text(task)})")
         if isinstance(condition, s.InterpolatedCondition):
             task = self._task(condition.task)
-            holds = task is not None and task.interpolator().finished
+            holds = task is not None and self._finished(task)
             return AtomStatus(f"{condition.task}.interpolated", holds,
                               "yes" if holds else "no (interpolator running)")
         if isinstance(condition, s.ControllerFailedCondition):
@@ -284,16 +286,28 @@ class SummaryWatch(Observer):
     def _error_text(self, task) -> str:
         if task is None:
             return "not in this controller"
+        if isinstance(task, RemoteStatus):
+            state = "" if task.interpolated else "interpolator running, "
+            return f"{state}error {task.error:.3g}"
         if not task.enabled:
             return "disabled"
         state = "" if task.interpolator().finished else "interpolator running, "
         return state + "error " + self._status(task).error_text()
 
     def _task(self, name: str):
+        """The task ``name`` of the runner's controller, or, run by another controller
+        of a cascade, its latest status there (:class:`RemoteStatus`)."""
+        remote = getattr(self.runner, "remote", None)
+        if remote is not None and not remote.is_local(name):
+            return remote.status(name)
         try:
             return self.runner.controller.task(name)
-        except LookupError:
+        except UnknownName:
             return None
+
+    def _finished(self, task) -> bool:
+        return task.interpolated if isinstance(task, RemoteStatus) else \
+            task.interpolator().finished
 
     def measure(self, measure, owner: str) -> tuple:
         """The value [SI] of ``measure`` now and its unit."""
@@ -319,8 +333,9 @@ class SummaryWatch(Observer):
         task = self._task(measure.task)
         if task is None:
             return math.nan, ""
+        spec = self.mission.tasks.get(measure.task)
         unit = {"position_error": "m", "orientation_error": "rad"}.get(
-            measure.field, TASK_UNITS.get(task.kind, ""))
+            measure.field, TASK_UNITS.get(spec.type if spec else "", ""))
         return float(getattr(task, measure.field)), unit
 
 

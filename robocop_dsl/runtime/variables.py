@@ -76,20 +76,21 @@ def _nothing(spec):
     return np.full(3, np.nan) if spec.size == 3 else math.nan
 
 
-def evaluator(node):
+def evaluator(node, remote=None):
     """A function ``value(runner, owner)`` [SI] of an expression spec; ``owner`` is the
-    activation of the state owning the clause (``None`` in an action)."""
+    activation of the state owning the clause (``None`` in an action); ``remote``: in a
+    cascade, how tasks of the other controllers are read (see :mod:`.build`)."""
     if isinstance(node, v.Constant):
         value = np.array(node.value) if isinstance(node.value, tuple) else node.value
         return lambda runner, owner: value
     if isinstance(node, v.VarValue):
         return lambda runner, owner, name=node.name: runner.variables.values[name]
     if isinstance(node, v.Arithmetic):
-        left, right = evaluator(node.left), evaluator(node.right)
+        left, right = evaluator(node.left, remote), evaluator(node.right, remote)
         apply = _ARITHMETIC[node.operator]
         return lambda runner, owner: apply(left(runner, owner), right(runner, owner))
     if isinstance(node, v.Negated):
-        operand = evaluator(node.operand)
+        operand = evaluator(node.operand, remote)
         return lambda runner, owner: -operand(runner, owner)
     if isinstance(node, v.PositionMeasure):
         return _position(node)
@@ -97,7 +98,7 @@ def evaluator(node):
         return _wrench(node)
     from .build import measure
 
-    return measure(node)
+    return measure(node, remote)
 
 
 def _position(node: v.PositionMeasure):
