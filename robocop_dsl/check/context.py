@@ -155,16 +155,19 @@ class WorldNames:
             info = self.world.body(info.parent)
         return joints
 
-    def hangs_from(self, body: str, ancestor: str) -> bool:
+    def hangs_from(self, body: str, ancestor: str, moved: dict | None = None) -> bool:
         """Whether ``ancestor`` is on the chain from ``body`` to the world, as the world
-        file places them."""
-        if self.world is None or not self.world.has_body(body):
-            return False
-        info = self.world.body(body)
-        while info.parent is not None:
-            if info.parent == ancestor:
+        file places them, each body of ``moved`` hanging from the parent it gives."""
+        moved = moved or {}
+        name, seen = body, {body}
+        while self.world is not None and self.world.has_body(name):
+            parent = moved[name] if name in moved else self.world.body(name).parent
+            if parent is None or parent in seen:
+                return False
+            if parent == ancestor:
                 return True
-            info = self.world.body(info.parent)
+            seen.add(parent)
+            name = parent
         return False
 
 

@@ -193,16 +193,20 @@ def check_transition(ctx: CheckContext, transition: ast.Transition, local: dict)
 def check_actions(ctx: CheckContext, actions) -> None:
     """The actions of a block or a transition, and the limits they leave in place."""
     assigned = []
+    moved: dict[str, str] = {}
     for action in actions:
-        numbers = check_action(ctx, action)
+        numbers = check_action(ctx, action, moved)
         if isinstance(action, ast.Assign):
             assigned.append((action, numbers))
     check_assigned_order(ctx, assigned)
 
 
-def check_action(ctx: CheckContext, action: ast.Action) -> tuple[float, ...] | None:
+def check_action(ctx: CheckContext, action: ast.Action,
+                 moved: dict[str, str] | None = None) -> tuple[float, ...] | None:
     """One action of an ``enter``/``during``/``exit`` block or of a transition; for an
-    assignment, the numbers it assigns [SI] when usable."""
+    assignment, the numbers it assigns [SI] when usable. ``moved``: the parent each body
+    has after the block's earlier attaches and detaches (updated)."""
+    moved = {} if moved is None else moved
     if isinstance(action, (ast.Enable, ast.Disable)):
         for name in action.names:
             if name.text not in ctx.symbols.tasks and name.text not in ctx.symbols.constraints \
@@ -227,15 +231,18 @@ def check_action(ctx: CheckContext, action: ast.Action) -> tuple[float, ...] | N
         if all([check_body(ctx, action.body), check_body(ctx, action.parent)]):
             if body == parent:
                 ctx.error("wrong-value", f"'{body}' cannot be attached to itself", action.span)
-            elif body != WORLD and ctx.world.hangs_from(parent, body):
+            elif body != WORLD and ctx.world.hangs_from(parent, body, moved):
+                earlier = " (after this block's earlier attaches)" if moved else ""
                 ctx.error("wrong-value", f"cannot attach '{body}' to '{parent}': '{parent}' "
-                          f"hangs from '{body}'", action.parent.span,
+                          f"hangs from '{body}'{earlier}", action.parent.span,
                           "attach it to a body that does not move with it")
             else:
                 _check_free(ctx, action.body, "attach")
+                moved[body] = parent
     elif isinstance(action, ast.Detach):
         if check_body(ctx, action.body):
             _check_free(ctx, action.body, "detach")
+            moved[action.body.text] = WORLD
     return None
 
 
