@@ -231,3 +231,19 @@ def test_a_body_task_in_a_world_of_one_dof(tmp_path):
     """)
     done = cli("run", mission)
     assert done.returncode == 0 and "outcome: success" in done.stdout, done.stdout
+
+
+def test_a_zero_axis_in_a_world_file_is_located(tmp_path):
+    """As a URDF's zero axis is: the run failed in MuJoCo's loader, or a body task
+    faulted."""
+    world = write(tmp_path, "w.yaml", """
+        models:
+          - path: robocop/point.urdf
+          - path: robocop/body.urdf
+            joint: {parent: point, type: prismatic, axis: [0, 0, 0],
+                    limits: {lower: -1, upper: 1, velocity: 1}}
+    """)
+    done = cli("world", world)
+    assert done.returncode == 1 and "Traceback" not in done.stderr
+    assert done.stderr.splitlines()[0] == (
+        f"{world}:4:45: error[invalid-entry]: 'axis' must not be zero")

@@ -296,7 +296,12 @@ class _Reader:
                     or "expected one of: " + ", ".join(JOINT_TYPES)))
                 spec.type = "fixed"
         if "axis" in data:
+            errors = len(self.out.diagnostics)
             spec.axis = self._vector(source, data, "axis", data["axis"], 3)
+            if not any(spec.axis) and len(self.out.diagnostics) == errors:
+                self.out.diagnostics.append(source.error(
+                    "invalid-entry", "'axis' must not be zero", data.span("axis"),
+                    "give the direction the joint moves along or about: [0, 0, 1]"))
         position = data.get("position")
         if position is not None and self._expect(source, position, YamlMap, data, "position"):
             for key in position:
