@@ -200,6 +200,8 @@ def check_parameters(ctx: CheckContext, given: list[tuple[ast.Name | None, ast.V
         numbers[parameter.name] = (value, checked)
     for low, high in kind.ordered:
         check_order(ctx, low, high, numbers, subject.joints)
+    for name, bound in kind.bounded:
+        _check_bounded(ctx, name, bound, numbers)
     missing = [p.name for p in kind.parameters if p.required and p.name not in seen]
     if missing:
         ctx.error("missing-parameter",
@@ -238,6 +240,24 @@ def check_order(ctx: CheckContext, low: str, high: str,
               f"'{low}' is above '{high}' at joint {index + 1} of '{joints.name}': "
               f"{lows[index]:.4g} > {highs[index]:.4g} {unit}{defaulted}{more}", span,
               f"every value of '{low}' must be at most the matching value of '{high}'")
+
+
+def _check_bounded(ctx: CheckContext, name: str, bound: str, numbers: dict) -> None:
+    """Report the first value of ``name`` whose magnitude is above the matching one of
+    ``bound`` (a single number stands for every dof) [SI]."""
+    values, limits = (numbers.get(n, (None, None))[1] for n in (name, bound))
+    if not values or not limits:
+        return
+    count = max(len(values), len(limits))
+    pairs = zip(values * count if len(values) == 1 else values,
+                limits * count if len(limits) == 1 else limits)
+    bad = next((i for i, (value, limit) in enumerate(pairs) if abs(value) > limit), None)
+    if bad is None:
+        return
+    ctx.error("wrong-value", f"'{name}' is above '{bound}'" + (
+        f" at dof {bad + 1}" if count > 1 else ""), numbers[name][0].span,
+              f"no trajectory reaches a velocity above '{bound}': the reference would "
+              "hold where it is")
 
 
 def _check_against_urdf(ctx: CheckContext, low: str, high: str, numbers, joints: Joints,

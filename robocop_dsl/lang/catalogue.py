@@ -121,7 +121,8 @@ class Kind:
     for interpolators and feedback laws) and ``space`` what its target lives in.
     ``ordered`` lists pairs ``(low, high)`` of per-dof position parameters where each
     value of ``low`` must not exceed that of ``high``; an absent one stands for the
-    joints' URDF limit (lower for ``low``, upper for ``high``).
+    joints' URDF limit (lower for ``low``, upper for ``high``). ``bounded`` lists pairs
+    ``(value, bound)`` where each value's magnitude must not exceed the bound's.
     """
 
     name: str
@@ -130,6 +131,7 @@ class Kind:
     space: str | None = None
     doc: str = ""
     ordered: tuple[tuple[str, str], ...] = ()
+    bounded: tuple[tuple[str, str], ...] = ()
 
     def parameter(self, name: str) -> Parameter | None:
         return next((p for p in self.parameters if p.name == name), None)
@@ -284,7 +286,7 @@ INTERPOLATORS.register(Kind("otg", (
     Parameter("max_angular_jerk", SCALAR, ANGULAR_JERK, valid=POSITIVE,
               spaces=ROTATION_SPACES, doc="of the rotation; default: not limited"),
 ), doc="online trajectory generation (ruckig), time-optimal under the limits; a linear "
-       "limit never bounds a rotation"))
+       "limit never bounds a rotation", bounded=(("target_velocity", "max_velocity"),)))
 for _name in ("linear", "cubic", "quintic"):
     INTERPOLATORS.register(Kind(_name, (Parameter("duration", SCALAR, TIME, required=True,
                                                           valid=POSITIVE),),
