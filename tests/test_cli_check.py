@@ -218,6 +218,8 @@ def test_a_library_statement_that_does_not_parse_gets_its_syntax_error_alone(tmp
     ("", 1),
     ("    max_position = [1, 1, 1, -2, 1, 2, 1] rad\n    enabled = false\n", 0),
     ("state s {\n    enter { disable low }\n", 0),
+    ("    max_position = [1, 1, 1, -2, 1, 2, 1] rad\n    enabled = false\n"
+     "}\nstate s {\n    enter { enable low }\n", 1),
 ])
 def test_two_joint_ranges_apart_are_an_error_only_when_both_start_enabled(tmp_path, capsys,
                                                                           change, errors):
@@ -226,6 +228,10 @@ def test_two_joint_ranges_apart_are_an_error_only_when_both_start_enabled(tmp_pa
     text = (INVALID / "joint_ranges_apart.mission").read_text()
     if change.startswith("state"):
         text = text.replace("state s {\n", change)
+    elif "enter" in change:
+        declared, entered = change.split("}\n", 1)
+        text = text.replace("    max_position = [1, 1, 1, -2, 1, 2, 1] rad\n", declared)
+        text = text.replace("state s {\n", entered)
     elif change:
         text = text.replace("    max_position = [1, 1, 1, -2, 1, 2, 1] rad\n", change)
     (tmp_path / "m.mission").write_text(text)

@@ -113,8 +113,11 @@ def test_invalid_mission_exits_2(tmp_path):
 def test_unhandled_fault_exits_3_and_keeps_the_log(tmp_path):
     path = write(tmp_path, """
 constraint above: joint_kinematic(bazar_left_arm) { min_position = [1, 1, 1, 1, 1, 1, 1] rad }
-constraint below: joint_kinematic(bazar_left_arm) { max_position = [-1, -1, -1, -1, -1, -1, -1] rad }
-state hold { when elapsed > 1 s -> done }
+constraint below: joint_kinematic(bazar_left_arm)
+state hold {
+    enter { below.max_position = [-1, -1, -1, -1, -1, -1, -1] rad }
+    when elapsed > 1 s -> done
+}
 final done
 """)
     done = robocop("run", path, "--log", tmp_path / "log")

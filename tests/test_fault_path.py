@@ -91,25 +91,30 @@ state carry {
     when elapsed > 20 ms -> divide {
         attach part_body to bazar_left_hankamp_tool_object_side
         attach drop_point to part_body
-        attach part_body to drop_point
     }
 }
-state divide { when elapsed > 20 ms -> done { x = x / z } }
+state divide {
+    when elapsed > 20 ms -> done {
+        attach part_body to drop_point
+        x = x / z
+    }
+}
 final done
 """
 
 
 def test_a_block_s_actions_meet_the_frames_its_earlier_actions_moved(tmp_path):
     """The second attach of a block sees the first one's frames (it used to fail for
-    want of a state); the third closes a cycle and is a fault naming the body; a
-    division by zero is a fault that says so. Either way the summary names the state
-    the failing clause leaves."""
+    want of a state); an attach of the next block that closes a cycle is a fault naming
+    the body (one in the same block is an error of ``check``); a division by zero is a
+    fault that says so. Either way the summary names the state the failing clause
+    leaves."""
     done = robocop("run", write(tmp_path, "same.mission", SAME_BLOCK))
     text = " ".join(done.stdout.split())
     assert done.returncode == 3 and "Traceback" not in done.stderr + done.stdout
-    assert ("action 3 of 'when elapsed > 20 ms -> divide' in state 'carry': kinematics: "
+    assert ("action 1 of 'when elapsed > 20 ms -> done' in state 'divide': kinematics: "
             "invalid parent 'drop_point'") in text
-    assert "final state: carry" in text
+    assert "final state: divide" in text
     path = write(tmp_path, "divide.mission", SAME_BLOCK.replace(
         "        attach part_body to drop_point\n", ""))
     done = robocop("run", path)

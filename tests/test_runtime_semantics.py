@@ -151,18 +151,20 @@ def test_events_stay_raised_until_the_owner_state_is_left(tmp_path):
         ("wait", "late", 0.05), ("late", "done", 0.1)]
 
 
+SQUEEZE = "enter { below.max_position = [-1, -1, -1, -1, -1, -1, -1] rad }"
 INFEASIBLE = """
     constraint above: joint_kinematic(bazar_left_arm) {
         min_position = [1, 1, 1, 1, 1, 1, 1] rad
     }
-    constraint below: joint_kinematic(bazar_left_arm) {
-        max_position = [-1, -1, -1, -1, -1, -1, -1] rad
-    }
+    constraint below: joint_kinematic(bazar_left_arm)
     state hold {
+        %s
         when elapsed > 1 s -> done
     }
     final done
-"""
+""" % SQUEEZE
+"""Two ranges that leave the arm no position from the first cycle on, one of them set by
+the start state's action (declared ones that clash are refused by ``check``)."""
 
 
 def test_infeasible_constraints_take_the_failure_path(tmp_path):
@@ -399,10 +401,11 @@ def test_a_failure_is_handled_only_by_clauses_checked_in_the_configuration(tmp_p
             when controller.failed -> broken
         }
         state hold: careful() {
+            %s
             when hold.calm -> done
         }
         final done
-    """)
+    """ % SQUEEZE)
     _, result, seen = run(m)
     assert fired(seen) == [(1, "hold/wait", "hold/broken")]
     assert result.transitions[0].condition == "controller.failed"

@@ -15,6 +15,9 @@ MOVING = """
 mission moving
 world "bazar/sophia.yaml"
 
+var zero: scalar = 0
+var x: scalar = 1
+
 constraint limits: joint_kinematic(bazar_upper_joints) {
     max_velocity     = 1 rad/s
     max_acceleration = 5 rad/s^2
@@ -94,10 +97,10 @@ def test_the_duration_cap_brakes_then_holds(tmp_path):
 
 
 def test_a_fault_while_moving_brakes_then_holds(tmp_path):
-    """The clause's action raises (attaching a point to the part attached to it): outcome
+    """The clause's second action raises (a division by a var that is zero): outcome
     ``fault``, and the robot still brakes at its limit."""
-    actions = (" { attach part_body to drop_point\n"
-               "        attach drop_point to part_body }")
+    actions = (' { log "braking"\n'
+               "        x = x / zero }")
     result, commands = run(tmp_path, actions)
     assert result.outcome == "fault"
     assert "action 2 of 'when elapsed > 400 ms -> done' in state 'swing'" in result.message

@@ -12,11 +12,14 @@ from .enabled import enabled_from_start
 
 def check_joint_ranges(ctx: CheckContext, mission: ast.Mission) -> None:
     """Report, at the later of the two, a pair of ``joint_kinematic`` constraints enabled
-    from the start (and not disabled by the start state's ``enter``) whose
-    ``min_position`` and ``max_position`` leave a joint no position [rad or m]."""
+    in the first cycle (from the start, or by the start state's ``enter``, and not
+    disabled by it) whose declared ``min_position`` and ``max_position`` leave a joint no
+    position [rad or m]. Values that actions assign are compared within their constraint
+    only (:mod:`.assigned_limits`)."""
     if not ctx.world.known:
         return
-    enabled = enabled_from_start(mission) - _disabled_on_entry(mission)
+    enabled, disabled = _switched_on_entry(mission)
+    enabled |= enabled_from_start(mission) - disabled
     lowest: dict[str, tuple[float, ast.ConstraintDecl]] = {}
     highest: dict[str, tuple[float, ast.ConstraintDecl]] = {}
     reported: set = set()
@@ -51,11 +54,19 @@ def check_joint_ranges(ctx: CheckContext, mission: ast.Mission) -> None:
                       "ranges overlap, or enable one only where the other is disabled")
 
 
-def _disabled_on_entry(mission: ast.Mission) -> set[str]:
-    """What the start state's ``enter`` block disables."""
+def _switched_on_entry(mission: ast.Mission) -> tuple[set[str], set[str]]:
+    """What the start state's ``enter`` block leaves enabled and disabled (in order)."""
     start = mission.first(ast.StartDecl)
     state = next((s for s in mission.states if start and s.name.text == start.state.text),
                  None)
-    return {name.text for block in (state.blocks if state else ()) if block.kind == "enter"
-            for action in block.actions if isinstance(action, ast.Disable)
-            for name in action.names}
+    enabled: set[str] = set()
+    disabled: set[str] = set()
+    for block in state.blocks if state else ():
+        for action in block.actions if block.kind == "enter" else ():
+            if isinstance(action, (ast.Enable, ast.Disable)):
+                names = {name.text for name in action.names}
+                on, off = (enabled, disabled) if isinstance(action, ast.Enable) else (
+                    disabled, enabled)
+                on |= names
+                off -= names
+    return enabled, disabled
