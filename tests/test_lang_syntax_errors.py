@@ -283,3 +283,16 @@ def test_a_second_statement_on_a_line_in_a_block_is_a_missing_new_line(line):
     assert [d.headline() for d in result.diagnostics] == [
         f"t.mission:2:{column}: error[missing-token]: expected a new line before 'when'"]
     assert [s.name.text for s in result.mission.states] == ["s", "done"]
+
+
+def test_the_contents_of_a_skipped_block_are_not_blamed_for_the_header_read_in_their_place():
+    """A state's body under a header misread as ``enter`` (``enteoing {``): its contents
+    were parsed with the header's closing on the line of the block's '}', and the
+    closing itself was reported, at a column past the end of that line."""
+    text = ("state carry {\n    enteoing {\n        enter { tool.target = point }\n"
+            "        when tool.reached -> there\n    }\n    final there\n}\n")
+    result = parse_mission(text, "t.mission")
+    assert [d.headline() for d in result.diagnostics] == [
+        "t.mission:2:5: error[syntax-error]: unexpected name 'enteoing'"]
+    lines = text.split("\n")
+    assert all(d.span.column <= len(lines[d.span.line - 1]) + 1 for d in result.diagnostics)

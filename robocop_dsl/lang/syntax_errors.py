@@ -14,6 +14,8 @@ line of their ``{``, shows to be over, and where to close each.
 
 from __future__ import annotations
 
+import dataclasses
+
 import difflib
 import functools
 import re
@@ -265,9 +267,11 @@ class Recovery:
         inner = text[_line_end(text, brace.end_pos) + 1:end - 1]
         from .parser import parse_mission
 
-        last = brace.line + inner.count("\n") + 1
-        parsed = parse_mission(f"{opening}\n{inner}{closing}\n", self.source.path, brace.line)
-        self.diagnostics += [d for d in parsed.diagnostics
+        last = brace.line + inner.count("\n") + 1      # the line of the block's '}'
+        parsed = parse_mission(f"{opening}\n{inner}\n{closing}\n", self.source.path,
+                               brace.line)
+        self.diagnostics += [dataclasses.replace(d, source_line=self.source.line(d.span.line))
+                             for d in parsed.diagnostics
                              if d.span is not None and brace.line < d.span.line <= last]
 
     def _resync(self, parser, token: Token) -> None:
