@@ -175,3 +175,24 @@ def test_ctrl_c_holds_and_keeps_a_complete_log(tmp_path):
     wait_for(moving(log), process)
     process.send_signal(signal.SIGINT)
     assert_clean_end(process, log, 130, "SIGINT")
+
+
+def test_an_unhandled_failure_says_what_failed(tmp_path):
+    """A pose task weighted 1e300 leaves the QP solver without an answer within its
+    budget; with no clause on ``controller.failed`` the run is a fault whose reason says
+    so (it said "run-time fault with no handler")."""
+    text = (REPO / "missions" / "pickup.mission").read_text()
+    text = text.replace('world "bazar/sophia.yaml"', f'world "{REPO}/robots/bazar/sophia.yaml"')
+    text = text.replace("    priority     = 0                       # 0 is highest",
+                        "    weight       = 1e300\n    priority     = 0  # 0 is highest")
+    text = "\n".join(line for line in text.split("\n") if "controller.failed" not in line)
+    path = tmp_path / "heavy.mission"
+    path.write_text(text)
+    done = robocop("run", path, "--log", tmp_path / "log")
+    assert done.returncode == 3 and "outcome: fault" in done.stdout
+    events = read_events(tmp_path / "log")
+    failed = [e for e in events if e["kind"] in ("solver_budget", "constraint_relaxed")]
+    assert failed, [e["kind"] for e in events]
+    reason = " ".join(done.stdout.split())
+    assert f"reason: the controller failed in state '{failed[0]['state']}': " in reason
+    assert "run-time fault with no handler" not in reason

@@ -39,6 +39,12 @@ from .statechart import Statechart
 from .variables import Variables
 from .views import TaskViews, task_views
 
+_FAILED = {"solver_budget": "the QP solver found no answer within its iteration budget",
+           "relaxed": "its constraints had no common command and were relaxed"}
+"""What a cycle that is not solved says of itself, by status (``no_solution`` says it
+in the ``qp_failure`` message)."""
+
+
 class Runner:
     """Runs a :class:`Program` with a controller, its kinematics and a driver.
 
@@ -368,6 +374,9 @@ class Runner:
         result = self.controller.compute(self.q)
         self.failed = not result.solved
         self.guard.announce(result, self.state)
+        if not result.solved and result.status in _FAILED:
+            self._message = f"the controller failed in state '{self.state}': " \
+                            f"{_FAILED[result.status]}"
         if result.status == "no_solution":
             self._qp_failures += 1
             self._message = f"no QP solution in state '{self.state}': {result.reason}"
