@@ -29,6 +29,41 @@ def cli(*args, cwd=REPO):
                           capture_output=True, text=True, cwd=cwd)
 
 
+def driven_arm(tmp_path, models: str, group: str, joint: str, task: str, target: str,
+               limits: str) -> tuple:
+    """``w.yaml`` (``models`` lines, the group of ``joint``, a controller and a simulated
+    driver on it) and ``m.mission``, which moves the ``task`` to ``target`` with an otg
+    of ``limits``: their paths."""
+    world = write(tmp_path, "w.yaml", "\n        models:\n" + models + f"""
+        joint_groups:
+          {group}: [{joint}]
+        processors:
+          controller:
+            type: qp_controller
+            options: {{joint_group: {group}, time_step: 5ms}}
+          sim:
+            type: simulated
+            options: {{joint_group: {group}}}
+    """)
+    mission = write(tmp_path, "m.mission", f"""
+        mission m
+        world "w.yaml"
+        task t: {task} {{
+            interpolator = otg({limits})
+        }}
+        start s
+        state s {{
+            enter {{
+                enable t
+                t.target = {target}
+            }}
+            when t.reached -> done
+        }}
+        final done
+    """)
+    return world, mission
+
+
 @pytest.mark.parametrize("joint, message, column", [
     ({"upper": "2.775mm"}, "'upper' of the <limit> of joint 'j1' must be a finite number, "
                            "not '2.775mm'", 23),
@@ -126,35 +161,9 @@ def test_limits_as_large_as_a_float_print_no_numpy_warning(tmp_path):
     and a run bounds its commands without an overflow warning on the terminal."""
     write(tmp_path, "arm.urdf", ARM.format(type="revolute", upper="1e308", velocity="1e308")
           .replace('lower="-1"', 'lower="-1e308"'))
-    world = write(tmp_path, "w.yaml", """
-        models:
-          - path: arm.urdf
-        joint_groups:
-          arm: [j1]
-        processors:
-          controller:
-            type: qp_controller
-            options: {joint_group: arm, time_step: 2ms, driver: sim}
-          sim:
-            type: simulated
-            options: {joint_group: arm}
-    """)
-    mission = write(tmp_path, "m.mission", """
-        mission m
-        world "w.yaml"
-        task t: joint_position(arm) {
-            interpolator = otg(max_velocity = 1 rad/s, max_acceleration = 1 rad/s^2)
-        }
-        start s
-        state s {
-            enter {
-                enable t
-                t.target = [1] rad
-            }
-            when t.reached -> done
-        }
-        final done
-    """)
+    world, mission = driven_arm(tmp_path, "          - path: arm.urdf\n", "arm", "j1",
+                                "joint_position(arm)", "[1] rad",
+                                "max_velocity = 1 rad/s, max_acceleration = 1 rad/s^2")
     shown = cli("world", world)
     assert shown.returncode == 0 and "j1  revolute   unbounded" in shown.stdout
     done = cli("run", mission)
@@ -197,38 +206,12 @@ def test_joint_groups_that_no_controller_can_command_are_world_errors(tmp_path, 
 def test_a_body_task_in_a_world_of_one_dof(tmp_path):
     """One prismatic joint: pinocchio's 6 x 1 Jacobian comes back flat, and every body
     task faulted with an IndexError."""
-    write(tmp_path, "w.yaml", """
-        models:
-          - path: robocop/point.urdf
-          - path: robocop/body.urdf
-            joint: {parent: point, type: prismatic, axis: [1, 0, 0],
-                    limits: {lower: -1, upper: 1, velocity: 1}}
-        joint_groups:
-          g: [point_to_body]
-        processors:
-          controller:
-            type: qp_controller
-            options: {joint_group: g, time_step: 5ms}
-          driver:
-            type: simulated
-            options: {joint_group: g}
-    """)
-    mission = write(tmp_path, "m.mission", """
-        mission m
-        world "w.yaml"
-        task p: body_pose(body) {
-            interpolator = otg(max_velocity = 0.1 m/s, max_acceleration = 1 m/s^2)
-        }
-        start s
-        state s {
-            enter {
-                enable p
-                p.target = pose(position = [0.2, 0, 0] m)
-            }
-            when p.reached -> done
-        }
-        final done
-    """)
+    _, mission = driven_arm(
+        tmp_path, "          - path: robocop/point.urdf\n          - path: robocop/body.urdf\n"
+                  "            joint: {parent: point, type: prismatic, axis: [1, 0, 0],\n"
+                  "                    limits: {lower: -1, upper: 1, velocity: 1}}\n",
+        "g", "point_to_body", "body_pose(body)", "pose(position = [0.2, 0, 0] m)",
+        "max_velocity = 0.1 m/s, max_acceleration = 1 m/s^2")
     done = cli("run", mission)
     assert done.returncode == 0 and "outcome: success" in done.stdout, done.stdout
 
