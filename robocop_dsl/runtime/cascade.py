@@ -39,16 +39,18 @@ from .views import TaskViews, task_views
 class TaskStatus:
     """A task of another controller as conditions see it, as of that controller's last
     cycle: ``reached``, ``interpolated``, and ``error``, ``position_error``,
-    ``orientation_error`` in the task's units [m, rad...]."""
+    ``orientation_error`` in the task's units [m, rad...], and whether it is
+    ``enabled``."""
 
     reached: bool
     interpolated: bool
     error: float
     position_error: float
     orientation_error: float
+    enabled: bool = True
 
 
-PENDING = TaskStatus(False, False, math.nan, math.nan, math.nan)
+PENDING = TaskStatus(False, False, math.nan, math.nan, math.nan, False)
 """The status of a task whose controller has not yet applied every action sent to it:
 not reached, and every comparison with its errors is false."""
 
@@ -206,6 +208,12 @@ class Remote:
             return PENDING
         return status.tasks.get(task, PENDING)
 
+    def enabled_tasks(self) -> list:
+        """``(name, status)`` of every task enabled in the other controllers, as of
+        their last cycle."""
+        return [(name, status) for owner, link in self._links.items() if owner != self.local
+                for name, status in link.status.tasks.items() if status.enabled]
+
 
 class ControllerThread:
     """A controller of a cascade, other than the first, in a thread of its own.
@@ -338,7 +346,7 @@ class ControllerThread:
 
     def _publish(self, failed: bool, message: str) -> None:
         tasks = {t.name: TaskStatus(t.reached, t.interpolated, t.error, t.position_error,
-                                    t.orientation_error)
+                                    t.orientation_error, t.enabled)
                  for t in self.controller.tasks()}
         self.link.publish_status(ControllerStatus(self.cycle, self._applied, failed,
                                                   self._failures, message, self._fault,

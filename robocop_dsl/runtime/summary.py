@@ -191,18 +191,27 @@ class SummaryWatch(Observer):
         return chain
 
     def task_statuses(self) -> tuple:
-        """The status of every task enabled now in the runner's controller."""
-        return tuple(self._status(t) for t in self.runner.controller.tasks() if t.enabled)
+        """The status of every task enabled now: the runner's controller's, then, in a
+        cascade, the other controllers' (as of their last cycle)."""
+        statuses = [self._status(t.name, t.kind, t) for t in self.runner.controller.tasks()
+                    if t.enabled]
+        remote = getattr(self.runner, "remote", None)
+        if remote is not None:
+            statuses += [self._status(name, self.mission.tasks[name].type, status)
+                         for name, status in remote.enabled_tasks()]
+        return tuple(statuses)
 
-    def _status(self, task) -> TaskStatus:
-        if task.kind == "body_pose":
+    def _status(self, name: str, kind: str, task) -> TaskStatus:
+        """The status of the task ``name`` of type ``kind``, from ``task`` (a
+        :class:`~robocop_dsl.control.Task` or another controller's :class:`RemoteStatus`)."""
+        if kind == "body_pose":
             errors = (("position", task.position_error, "m"),
                       ("orientation", task.orientation_error, "rad"))
         else:
-            errors = (("error", task.error, TASK_UNITS.get(task.kind, "")),)
-        spec = self.mission.tasks.get(task.name)
+            errors = (("error", task.error, TASK_UNITS.get(kind, "")),)
+        spec = self.mission.tasks.get(name)
         target = (spec.body or spec.joint_group or "") if spec is not None else ""
-        return TaskStatus(task.name, task.kind, target, errors, bool(task.reached))
+        return TaskStatus(name, kind, target, errors, bool(task.reached))
 
     def clauses(self, path: str, skip: str | None = None):
         """The clauses checked for the active state at ``path``, from it outwards: each
@@ -292,7 +301,7 @@ class SummaryWatch(Observer):
         if not task.enabled:
             return "disabled"
         state = "" if task.interpolator().finished else "interpolator running, "
-        return state + "error " + self._status(task).error_text()
+        return state + "error " + self._status(task.name, task.kind, task).error_text()
 
     def _task(self, name: str):
         """The task ``name`` of the runner's controller, or, run by another controller
