@@ -4,7 +4,10 @@ process per measure).
 - open a large mission (``--size`` bytes, 5 MB by default: the states of
   missions/pickup.mission repeated, renamed and chained): the time from ``didOpen`` to
   its diagnostics, the semantic tokens' time after them, and the server's peak resident
-  memory (sampled every 20 ms from the open to the tokens);
+  memory (sampled every 20 ms from the open to the tokens); beside them, in this
+  process, the CPU time of lark's LALR parser alone on the same text (the mission
+  grammar and its line-break post-lexer, no positions kept, no syntax tree built): the
+  floor under the server's parse;
 - ``--edits`` one-character edits of missions/pickup.mission (a comment typed at its
   end), sent back to back: the time from the last edit to the diagnostics of its
   version, and how many times diagnostics were published in all;
@@ -29,6 +32,8 @@ import psutil
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features
+
+from robocop_dsl.lang.parser import GRAMMAR_DIR, StatementBreaks
 
 REPO = Path(__file__).resolve().parent.parent
 PICKUP = REPO / "missions" / "pickup.mission"
@@ -111,6 +116,18 @@ async def open_large(size: int) -> dict:
             "peak": peak[0] / 2 ** 20, "errors": errors}
 
 
+def lark_alone(text: str) -> float:
+    """CPU seconds of lark's LALR parser on ``text``, without positions or a syntax
+    tree."""
+    from lark import Lark
+
+    parser = Lark((GRAMMAR_DIR / "mission.lark").read_text(encoding="utf-8"), parser="lalr",
+                  lexer="contextual", postlex=StatementBreaks(), import_paths=[GRAMMAR_DIR])
+    start = time.process_time()
+    parser.parse(text)
+    return time.process_time() - start
+
+
 async def edit_in_a_row(edits: int) -> dict:
     """``edits`` one-character edits of pickup.mission sent back to back: seconds from
     the last to its diagnostics, and how many diagnostics were published."""
@@ -159,6 +176,8 @@ def main() -> None:
         (f"open a {large['length'] / 1e6:.1f} MB mission: diagnostics", "s",
          large["diagnostics"], "10"),
         ("  then its semantic tokens", "s", large["tokens"], ""),
+        ("  lark's parser alone on its text (CPU)", "s", lark_alone(large_mission(args.size)),
+         ""),
         ("  server's peak resident memory", "MB", large["peak"], "500"),
         (f"{args.edits} edits in a row: last edit -> its diagnostics", "s", edited["after"],
          "2"),

@@ -127,6 +127,8 @@ def test_an_unknown_host_is_a_clear_error():
     ("127.0.0.1:99999", False, "expected HOST:PORT"),
     ("0.0.0.0:8765", False, "add --allow-remote"),
     ("192.168.1.10:8765", False, "add --allow-remote"),
+    ("::1", True, r"an IPv6 address goes in brackets, the port after them \(e.g. \[::1\]:8765\)"),
+    ("::1:8765", True, "an IPv6 address goes in brackets"),
 ])
 def test_bad_addresses_are_refused(address, allow, message):
     with pytest.raises(FoxgloveAddressError, match=message):
@@ -138,6 +140,16 @@ def test_addresses():
     assert parse_address("[::1]:0") == ("::1", 0)
     assert parse_address("localhost:9000") == ("localhost", 9000)
     assert parse_address("0.0.0.0:8765", allow_remote=True) == ("0.0.0.0", 8765)
+
+
+def test_a_server_on_every_address_is_opened_by_this_machine_s_name():
+    """``ws://0.0.0.0:PORT`` opens nothing: the URL to give Foxglove names the machine."""
+    server = FoxgloveServer("0.0.0.0", 0, [])
+    try:
+        assert server.url.startswith(f"ws://{socket.gethostname()}:")
+        assert int(server.url.rsplit(":", 1)[1]) > 0
+    finally:
+        server.close()
 
 
 def test_the_command_line_refuses_a_remote_address_without_consent(capsys):

@@ -100,3 +100,35 @@ def test_a_damaged_or_missing_log_is_a_one_line_error(logged, tmp_path, capsys, 
         assert main(["export", str(folder), "--mcap", "-o",
                      str(tmp_path / "missing" / "x.mcap")]) == 1
         assert "cannot write" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("command", ["export", "plot"])
+@pytest.mark.parametrize("damage, message", [
+    ("reversed", "timeseries.parquet: time goes back at cycle 1: 0.005 s after 0.01 s"),
+    ("no state", "timeseries.parquet: rows without a state"),
+])
+def test_rows_out_of_order_or_without_a_state_are_refused(logged, tmp_path, capsys,
+                                                         damage, message, command):
+    """A time series whose rows go back in time, or have no state, is a damaged log:
+    one line, exit code 1, and no file that would show it wrongly."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    folder, _, _ = logged
+    table = pq.read_table(folder / "timeseries.parquet").slice(0, 10)
+    if damage == "reversed":
+        table = table.take(pa.array([0, 2, 1] + list(range(3, 10))))
+    else:
+        states = table.column("state").to_pylist()
+        states[3] = None
+        table = table.set_column(table.schema.get_field_index("state"), "state",
+                                 pa.array(states, pa.string()))
+    damaged = tmp_path / "damaged"
+    damaged.mkdir()
+    (damaged / "events.jsonl").write_bytes((folder / "events.jsonl").read_bytes())
+    pq.write_table(table, damaged / "timeseries.parquet")
+    extra = ["--mcap"] if command == "export" else ["-o", str(tmp_path / "figures")]
+    assert main([command, str(damaged), *extra]) == 1
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1, err
+    assert not (damaged / "run.mcap").exists() and not (tmp_path / "figures").exists()

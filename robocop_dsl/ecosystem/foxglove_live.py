@@ -9,6 +9,7 @@ the targets) gets its last message at once."""
 from __future__ import annotations
 
 import ipaddress
+import socket
 
 from ..diagnostics import RobocopError
 from .msgdefs import message_definition
@@ -33,15 +34,30 @@ def parse_address(text: str, allow_remote: bool = False) -> tuple:
             is not the loopback without ``allow_remote``.
     """
     host, colon, port = text.rpartition(":")
-    host = host[1:-1] if host.startswith("[") and host.endswith("]") else host
+    bracketed = host.startswith("[") and host.endswith("]")
+    host = host[1:-1] if bracketed else host
+    if ":" in host and not bracketed:
+        raise FoxgloveAddressError(f"--foxglove '{text}': an IPv6 address goes in brackets, "
+                                   "the port after them (e.g. [::1]:8765)")
     if not colon or not host or not port.isdigit() or int(port) > 65535:
-        raise FoxgloveAddressError(f"--foxglove '{text}': expected HOST:PORT, a port from 0 to "
-                            f"65535 (e.g. {DEFAULT_ADDRESS})")
+        raise FoxgloveAddressError(f"--foxglove '{text}': expected HOST:PORT, a port from 0 "
+                                   f"to 65535 (e.g. {DEFAULT_ADDRESS})")
     if not allow_remote and not _loopback(host):
-        raise FoxgloveAddressError(f"--foxglove '{text}': {host} is not the loopback address, so "
-                            "anyone who reaches this machine could watch the run; add "
-                            "--allow-remote to serve it there anyway")
+        raise FoxgloveAddressError(f"--foxglove '{text}': {host} is not the loopback address, "
+                                   "so anyone who reaches this machine could watch the run; "
+                                   "add --allow-remote to serve it there anyway")
     return host, int(port)
+
+
+def _named(host: str) -> str:
+    """``host`` as a client names it in a URL: this machine's name for an address that
+    stands for all of its own (``0.0.0.0``, ``::``), an IPv6 address in brackets."""
+    try:
+        if ipaddress.ip_address(host).is_unspecified:
+            return socket.gethostname()
+    except ValueError:
+        pass
+    return f"[{host}]" if ":" in host else host
 
 
 def _loopback(host: str) -> bool:
@@ -67,7 +83,8 @@ class FoxgloveServer:
         name: The server's name, shown by Foxglove.
 
     Attributes:
-        url: ``ws://HOST:PORT`` to open in Foxglove.
+        url: ``ws://HOST:PORT`` to open in Foxglove (this machine's name for a server on
+            all of its addresses).
 
     Raises:
         FoxgloveError: the server cannot listen there (a port taken, an unknown host).
@@ -91,7 +108,7 @@ class FoxgloveServer:
             self._server.stop()
             reason = error.strerror or str(error)
             raise FoxgloveError(f"cannot serve Foxglove on {shown}:{port}: {reason}") from None
-        self.url = f"ws://{shown}:{self._relay.port}"
+        self.url = f"ws://{_named(host)}:{self._relay.port}"
         self._channels = {
             topic.name: foxglove.Channel(
                 topic.name, message_encoding="cdr", context=self._context,

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import os
 import shutil
 from pathlib import Path
@@ -428,8 +429,8 @@ def check_timeseries(folder: str | Path, columns: tuple = ("time", "state")):
     """The schema of a logged run's time series, checked: every file has the same
     columns, among them ``columns``; every column but ``state`` holds numbers; every
     ``q.JOINT`` has its ``command.JOINT``; ``cycle`` and ``time`` are within
-    :data:`RANGES`; its ``joint_groups`` and ``tasks`` metadata, when there, are JSON
-    of their shape.
+    :data:`RANGES`, the times rising from row to row and every row with a ``state``; its
+    ``joint_groups`` and ``tasks`` metadata, when there, are JSON of their shape.
 
     Raises:
         FileNotFoundError: there is none.
@@ -456,16 +457,41 @@ def check_timeseries(folder: str | Path, columns: tuple = ("time", "state")):
         if key in metadata and not _valid_json(metadata[key], valid):
             raise UnreadableLog(f"{files[0]}: its {key.decode()} metadata is damaged")
     ranges = {name: RANGES[name] for name in RANGES if name in names}
+    read = list(ranges) + ["state"] * ("state" in names)
+    last = -math.inf
     for file in files:
         if not read_parquet(pq.read_schema, file).equals(schema):
             raise UnreadableLog(f"{file}: not the columns of {files[0]}")
-        table = read_parquet(lambda path: pq.read_table(path, columns=list(ranges)), file)
+        table = read_parquet(lambda path: pq.read_table(path, columns=read), file)
         for name, (low, high) in ranges.items():
             values = table.column(name).to_numpy(zero_copy_only=False).astype(float)
             if not np.all((values >= low) & (values < high)):
                 raise UnreadableLog(f"{file}: column {name} holds values that are NaN or "
                                     f"out of [{low:.0f}, {high:.0f})")
+        last = _rising(file, table, last)
+        if "state" in names and table.column("state").null_count:
+            raise UnreadableLog(f"{file}: rows without a state")
     return schema
+
+
+def _rising(file, table, last: float) -> float:
+    """The last time [s] of ``table`` (a time series part whose rows follow one at
+    ``last``), its times checked to rise from row to row.
+
+    Raises:
+        UnreadableLog: a row's time is not after the one before it.
+    """
+    if "time" not in table.column_names:
+        return last
+    times = table.column("time").to_numpy(zero_copy_only=False).astype(float)
+    back = np.flatnonzero(np.diff(times, prepend=last) <= 0)
+    if back.size:
+        row = back[0]
+        where = (f"cycle {table.column('cycle')[row].as_py()}" if "cycle" in table.column_names
+                 else f"row {row + 1}")
+        raise UnreadableLog(f"{file}: time goes back at {where}: {times[row]:g} s after "
+                            f"{times[row - 1] if row else last:g} s")
+    return float(times[-1]) if len(times) else last
 
 
 def _valid_json(text: bytes, valid) -> bool:
