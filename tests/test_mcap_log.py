@@ -64,6 +64,30 @@ def test_one_joint_state_per_cycle_as_in_the_parquet(logged):
     assert stamp.sec * 10**9 + stamp.nanosec == states[7][0]
 
 
+def test_every_joint_of_the_world_is_on_joint_states(tmp_path):
+    """The Panda's run drives its arm only: its fingers are on ``/joint_states`` too, the
+    second mimicking the first, as pinocchio reads them from ``/robot_description``."""
+    folder = tmp_path / "log"
+    assert main(["run", str(MISSIONS / "panda_reach.mission"), "--log", str(folder),
+                 "--duration", "0.2"]) == 1
+    data = read_timeseries(folder)
+    states = read_mcap(folder / "run.mcap")
+    description = states["/robot_description"][0][1].data
+    model = pin.buildModelFromXML(description)
+    moving = {model.names[i] for i in range(1, model.njoints) if model.joints[i].nv}
+    controlled = [name[2:] for name in data if name.startswith("q.")]
+    for _, message in states["/joint_states"]:
+        assert list(message.name[:len(controlled)]) == controlled
+        assert set(message.name) == moving
+    last = states["/joint_states"][-1][1]
+    position = dict(zip(last.name, last.position))
+    velocity = dict(zip(last.name, last.velocity))
+    assert [position[j] for j in controlled] == [data[f"q.{j}"][-1] for j in controlled]
+    assert [velocity[j] for j in controlled] == [data[f"command.{j}"][-1] for j in controlled]
+    assert position["panda_finger_joint1"] == position["panda_finger_joint2"] == 0.0
+    assert np.isnan(velocity["panda_finger_joint1"]) and np.isnan(velocity["panda_finger_joint2"])
+
+
 def test_the_tool_and_the_part_are_on_tf_where_the_model_puts_them(logged, bazar):
     """Every 20 ms, from the world frame; the part from its grasp on, carried by the
     tool (the same relative pose at every message), before it only on /tf_static."""

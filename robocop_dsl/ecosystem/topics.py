@@ -6,9 +6,10 @@ topic                      type                                  when
 ``/robot_description``     ``std_msgs/msg/String``               at 0 (the world's URDF)
 ``/tf_static``             ``tf2_msgs/msg/TFMessage``            at 0: bodies fixed to the
                                                                  world, parent ``world``
-``/joint_states``          ``sensor_msgs/msg/JointState``        every cycle: the controlled
-                                                                 joints' positions [rad or
-                                                                 m], velocities = commands
+``/joint_states``          ``sensor_msgs/msg/JointState``        every cycle: every joint's
+                                                                 position [rad or m] and
+                                                                 velocity (see
+                                                                 :mod:`.joint_states`)
 ``/tf``                    ``tf2_msgs/msg/TFMessage``            every ``tf_period``: every
                                                                  other body (and any the
                                                                  run moved), parent
@@ -39,6 +40,7 @@ from ..runtime.views import view_kinds
 from .cdr import Layout, encoder, stamp
 from .description import robot_description
 from .frames import BodyFrames, position_quaternion
+from .joint_states import JointStates
 from .markers import DRAWN_KINDS, TargetMarkers
 
 TARGETS_PERIOD = 0.1
@@ -101,12 +103,14 @@ class RunTopics:
         self._moving = {body: index for index, body in enumerate(self._frames.moving)}
         self._string = encoder("std_msgs/msg/String")
         self._log = encoder("rcl_interfaces/msg/Log")
+        self._every_joint = JointStates(world, self.joint_names)
+        names = self._every_joint.names
         self._joint_states = Layout()
         self._joint_states.stamp()
         self._joint_states.string("")
-        self._joint_states.strings(self.joint_names)
-        self._joint_states.sequence(len(self.joint_names))
-        self._joint_states.sequence(len(self.joint_names))
+        self._joint_states.strings(names)
+        self._joint_states.sequence(len(names))
+        self._joint_states.sequence(len(names))
         self._joint_states.uint32(0)                     # effort: none
         self._wrench = {body: _wrench_layout() for body in self.sensors}
         self._transforms: tuple = ((), None)             # bodies, their layout
@@ -128,8 +132,7 @@ class RunTopics:
         if not records:
             return []
         times = np.array([to_ns(record.time) for record in records], dtype=np.int64)
-        joints = np.hstack([np.array([record.positions for record in records]),
-                            np.array([record.command for record in records])])
+        joints = self._every_joint.values(records)
         messages = [("/joint_states", time, data) for time, data in
                     zip(times, self._joint_states.encode(times, joints))]
         shown = []
