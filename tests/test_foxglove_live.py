@@ -22,6 +22,7 @@ from conftest import MISSIONS
 from robocop_dsl.cli.main import main
 from robocop_dsl.ecosystem import (FoxgloveAddressError, FoxgloveError, FoxgloveServer,
                                    parse_address)
+from robocop_dsl.ecosystem.topics import Topic
 
 REPO = Path(__file__).resolve().parent.parent
 TOPICS = {"/robot_description", "/tf_static", "/joint_states", "/tf", "/mission/state",
@@ -140,6 +141,59 @@ def test_addresses():
     assert parse_address("[::1]:0") == ("::1", 0)
     assert parse_address("localhost:9000") == ("localhost", 9000)
     assert parse_address("0.0.0.0:8765", allow_remote=True) == ("0.0.0.0", 8765)
+
+
+async def subscribed(url: str, topics: list):
+    """A client offering ``foxglove.sdk.v1``, subscribed to ``topics`` in one request
+    (subscription ids 1, 2...)."""
+    ws = await websockets.connect(url, subprotocols=["foxglove.sdk.v1"], compression=None)
+    channels: dict = {}
+    while not set(topics) <= set(channels):
+        message = await ws.recv()
+        if isinstance(message, str) and json.loads(message)["op"] == "advertise":
+            channels.update({c["topic"]: c["id"] for c in json.loads(message)["channels"]})
+    await ws.send(json.dumps({"op": "subscribe", "subscriptions": [
+        {"id": index, "channelId": channels[topic]} for index, topic in enumerate(topics, 1)]}))
+    return ws
+
+
+async def received(ws, subscription: int, until: bytes) -> list:
+    """The payloads of ``subscription`` that ``ws`` receives up to ``until``."""
+    payloads: list = []
+    while until not in payloads:
+        message = await ws.recv()
+        if isinstance(message, bytes) and message[0] == 1 and \
+                struct.unpack_from("<I", message, 1)[0] == subscription:
+            payloads.append(message[13:])
+    return payloads
+
+
+def test_the_first_client_to_subscribe_gets_the_last_events():
+    """A Foxglove opened after the run started shows its last events (here 3 of 5),
+    and a second client beside it makes the first get none of them twice."""
+    events, state = "/mission/events", "/mission/state"
+    server = FoxgloveServer("127.0.0.1", 0, [Topic(events, "std_msgs/msg/String", history=3),
+                                             Topic(state, "std_msgs/msg/String", True)])
+
+    async def clients():
+        first = await subscribed(server.url, [events])
+        early = await received(first, 1, b"event 5")
+        second = await subscribed(server.url, [events, state])
+        await received(second, 2, b"lift")      # its subscriptions are in place
+        server.write([(events, 6, b"event 6")])
+        late = await received(first, 1, b"event 6"), await received(second, 1, b"event 6")
+        await first.close()
+        await second.close()
+        return early, late
+
+    try:
+        server.write([(state, 0, b"lift")] + [(events, time, f"event {time}".encode())
+                                               for time in range(1, 6)])
+        early, (first_late, second_late) = asyncio.run(asyncio.wait_for(clients(), 60))
+    finally:
+        server.close()
+    assert early == [b"event 3", b"event 4", b"event 5"]
+    assert first_late == [b"event 6"] and second_late == [b"event 6"]
 
 
 def test_a_server_on_every_address_is_opened_by_this_machine_s_name():

@@ -4,12 +4,16 @@ but the loopback's needs the caller's explicit consent (``--allow-remote``), as 
 data goes to whoever connects.
 
 A client that subscribes to a latched topic (the URDF, the fixed bodies, the state,
-the targets) gets its last message at once."""
+the targets) gets its last message at once; the first to subscribe to the events
+(``/mission/events``, ``/rosout``) gets the run's last ones (the server sends a message
+to every subscriber of its channel: a client that subscribes beside another gets the
+events from then on, and the other none twice)."""
 
 from __future__ import annotations
 
 import ipaddress
 import socket
+from collections import deque
 
 from ..diagnostics import RobocopError
 from .msgdefs import message_definition
@@ -116,6 +120,9 @@ class FoxgloveServer:
                                        data=message_definition(topic.type).encode()))
             for topic in topics}
         self._latched = {topic.name: None for topic in topics if topic.latched}
+        self._history = {topic.name: deque(maxlen=topic.history) for topic in topics
+                         if topic.history}
+        self._subscribers: dict = {topic.name: set() for topic in topics}
 
     def write(self, messages: list) -> None:
         """Send ``(topic, time [ns], bytes)`` messages to the subscribed clients."""
@@ -123,6 +130,8 @@ class FoxgloveServer:
             self._channels[topic].log(data, log_time=int(time))
             if topic in self._latched:
                 self._latched[topic] = (int(time), data)
+            if topic in self._history:
+                self._history[topic].append((int(time), data))
 
     def checkpoint(self) -> None:
         """Nothing to do: messages go out as they are written."""
@@ -134,10 +143,17 @@ class FoxgloveServer:
         self._relay.close()
 
     def on_subscribe(self, client, channel) -> None:
-        """Called by the server: send a latched topic's last message."""
-        last = self._latched.get(channel.topic)
+        """Called by the server: send a latched topic's last message, and to the first
+        subscriber of a topic with a history its last messages."""
+        topic = channel.topic
+        first = not self._subscribers[topic]
+        self._subscribers[topic].add(client.id)
+        last = self._latched.get(topic)
         if last is not None:
-            self._channels[channel.topic].log(last[1], log_time=last[0])
+            self._channels[topic].log(last[1], log_time=last[0])
+        for time, data in list(self._history.get(topic, ())) if first else ():
+            self._channels[topic].log(data, log_time=time)
 
     def on_unsubscribe(self, client, channel) -> None:
         """Called by the server when a client unsubscribes or leaves."""
+        self._subscribers[channel.topic].discard(client.id)

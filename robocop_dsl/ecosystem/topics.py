@@ -51,14 +51,21 @@ LOG_LEVELS = {"fault": 40, "qp_failure": 40, "overrun": 30, "dropped": 30,
 """``rcl_interfaces/msg/Log`` level of an event's ``/rosout`` line (else 20, INFO)."""
 
 
+RECENT_EVENTS = 50
+"""How many of the run's last events a live client gets when it subscribes."""
+
+
 @dataclass(frozen=True)
 class Topic:
-    """A topic: its name, its message type, and whether a late subscriber should get
-    its last message (``transient_local`` durability)."""
+    """A topic: its name, its message type, whether a late subscriber should get its
+    last message (``transient_local`` durability), and how many of its last messages
+    a live stream's client gets when it is the first to subscribe (``history``: the
+    run's recent events)."""
 
     name: str
     type: str
     latched: bool = False
+    history: int = 0
 
 
 def wrench_topic(body: str) -> str:
@@ -92,8 +99,9 @@ class RunTopics:
                        Topic("/joint_states", "sensor_msgs/msg/JointState"),
                        Topic("/tf", "tf2_msgs/msg/TFMessage"),
                        Topic("/mission/state", "std_msgs/msg/String", True),
-                       Topic("/mission/events", "std_msgs/msg/String"),
-                       Topic("/rosout", "rcl_interfaces/msg/Log"),
+                       Topic("/mission/events", "std_msgs/msg/String",
+                             history=RECENT_EVENTS),
+                       Topic("/rosout", "rcl_interfaces/msg/Log", history=RECENT_EVENTS),
                        Topic("/mission/targets", "visualization_msgs/msg/MarkerArray", True)]
         self.topics += [Topic(wrench_topic(body), "geometry_msgs/msg/WrenchStamped")
                         for body in self.sensors]
