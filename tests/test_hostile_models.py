@@ -17,7 +17,7 @@ ARM = """
       <link name="base"/>
       <link name="l1"/>
       <joint name="j1" type="{type}">
-        <parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+        <parent link="base"/><child link="l1"/><axis xyz="{axis}"/>
         <limit lower="-1" upper="{upper}" velocity="{velocity}" effort="1"/>
       </joint>
     </robot>
@@ -71,14 +71,24 @@ def driven_arm(tmp_path, models: str, group: str, joint: str, task: str, target:
                        "not 'nan'", 23),
     ({"velocity": "-2"}, "'velocity' of the <limit> of joint 'j1' is negative: -2", 33),
     ({"type": "revolve"}, "joint 'j1' has no URDF type 'revolve'", 20),
+    ({"upper": "1 "}, "'upper' of the <limit> of joint 'j1' must be a finite number, "
+                      "not '1 '", 23),
+    ({"upper": "1&#10;"}, "'upper' of the <limit> of joint 'j1' must be a finite number, "
+                          r"not '1\n'", 23),
+    ({"upper": "\uff11"}, "'upper' of the <limit> of joint 'j1' must be a finite number, "
+                          r"not '\uff11'", 23),
+    ({"axis": "0&#9;0 1"}, "'xyz' of the <axis> of joint 'j1' must be three finite numbers, "
+                           r"not '0\t0 1'", 50),
 ])
 def test_bad_urdf_numbers_and_types_are_located(tmp_path, joint, message, column):
-    values = {"type": "revolute", "upper": "1", "velocity": "1", **joint}
+    """Each used to pass as a number or a type, then pinocchio's URDF parser (urdfdom)
+    refused the file and ``world`` and ``run`` ended in a traceback."""
+    values = {"type": "revolute", "upper": "1", "velocity": "1", "axis": "0 0 1", **joint}
     write(tmp_path, "arm.urdf", ARM.format(**values))
     world = write(tmp_path, "w.yaml", "models:\n  - path: arm.urdf\n")
     done = cli("world", world)
     assert done.returncode == 1 and "Traceback" not in done.stderr
-    line = 6 if "type" not in joint else 4
+    line = {"type": 4, "axis": 5}.get(next(iter(joint)), 6)
     assert done.stderr.splitlines()[0] == (
         f"{tmp_path / 'arm.urdf'}:{line}:{column}: error[urdf-error]: {message}")
 
@@ -159,8 +169,8 @@ def test_a_time_step_too_short_to_be_meant_is_refused(tmp_path):
 def test_limits_as_large_as_a_float_print_no_numpy_warning(tmp_path):
     """URDF limits of 1e308 are numbers like any other: ``world`` prints them unbounded
     and a run bounds its commands without an overflow warning on the terminal."""
-    write(tmp_path, "arm.urdf", ARM.format(type="revolute", upper="1e308", velocity="1e308")
-          .replace('lower="-1"', 'lower="-1e308"'))
+    write(tmp_path, "arm.urdf", ARM.format(type="revolute", upper="1e308", velocity="1e308",
+                                           axis="0 0 1").replace('lower="-1"', 'lower="-1e308"'))
     world, mission = driven_arm(tmp_path, "          - path: arm.urdf\n", "arm", "j1",
                                 "joint_position(arm)", "[1] rad",
                                 "max_velocity = 1 rad/s, max_acceleration = 1 rad/s^2")

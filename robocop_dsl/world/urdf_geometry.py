@@ -11,7 +11,7 @@ import xml.etree.ElementTree as ET
 
 from ..diagnostics import did_you_mean
 from .urdf_positions import ElementPositions
-from .urdf_values import finite
+from .urdf_values import finite, vector_parts
 
 SIZES = {"box": {"size": 3}, "cylinder": {"radius": 1, "length": 1},
          "sphere": {"radius": 1}, "capsule": {"radius": 1, "length": 1}}
@@ -51,7 +51,7 @@ def check_geometry(link: ET.Element, positions: ElementPositions, diagnostics: l
 def _sizes(shape: ET.Element, where: str, error) -> None:
     for name, count in SIZES[shape.tag].items():
         text = shape.get(name)
-        parts = (text or "").split()
+        parts = vector_parts(text or "") if count == 3 else [text or ""]
         numbers = [finite(part) for part in parts]
         if text is None:
             error(shape, None, f"the <{shape.tag}> of {where} has no '{name}'",
@@ -70,7 +70,7 @@ def _mesh(shape: ET.Element, where: str, error) -> None:
         error(shape, None, f"the <mesh> of {where} has no 'filename'",
               'write the mesh file: <mesh filename="FILE.stl"/>')
     scale = shape.get("scale")
-    if scale is not None and (len(scale.split()) != 3
-                              or any(finite(part) is None for part in scale.split())):
+    if scale is not None and (len(vector_parts(scale)) != 3
+                              or any(finite(part) is None for part in vector_parts(scale))):
         error(shape, "scale", f"'scale' of the <mesh> of {where} must be three finite "
               f"numbers, not '{scale}'", 'for example scale="0.001 0.001 0.001" (mm to m)')

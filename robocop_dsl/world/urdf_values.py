@@ -117,7 +117,7 @@ class UrdfValues:
         value = finite(text)
         if value is None:
             self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
-                        f"must be a finite number, not '{text}'",
+                        f"must be a finite number, not '{_shown(text)}'",
                         "URDF numbers are SI without a unit (m, rad, m/s, rad/s, N, kg)")
         elif value < 0 and (element.tag, name) in _NOT_NEGATIVE:
             self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
@@ -125,10 +125,10 @@ class UrdfValues:
 
     def _vector(self, element: ET.Element, name: str, line: int, what: str) -> None:
         text = element.get(name)
-        parts = text.split()
+        parts = vector_parts(text)
         if len(parts) != 3 or any(finite(p) is None for p in parts):
             self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
-                        f"must be three finite numbers, not '{text}'",
+                        f"must be three finite numbers, not '{_shown(text)}'",
                         "for example xyz=\"0 0 0.1\" (m) or rpy=\"0 0 1.57\" (rad)")
 
     def _error(self, line: int, needle: str, message: str, hint: str, skip: int = 0) -> None:
@@ -138,20 +138,38 @@ class UrdfValues:
 
     def _locate(self, line: int, needle: str, skip: int = 0) -> tuple[int, int]:
         """The first place at or after ``line`` where ``needle`` is written, the first
-        ``skip`` places passed over."""
-        for number in range(max(line, 1), len(self.lines) + 1):
-            column = self.lines[number - 1].find(needle)
-            while column >= 0:
-                if not skip:
-                    return number, column + 1
-                skip -= 1
-                column = self.lines[number - 1].find(needle, column + 1)
+        ``skip`` places passed over; for an attribute whose value the file writes
+        otherwise (``&#10;``), where the attribute begins."""
+        for wanted in dict.fromkeys((needle, needle.split('"')[0] + '"' * ('"' in needle))):
+            for number in range(max(line, 1), len(self.lines) + 1):
+                column = self.lines[number - 1].find(wanted)
+                while column >= 0:
+                    if not skip:
+                        return number, column + 1
+                    skip -= 1
+                    column = self.lines[number - 1].find(wanted, column + 1)
         return line, 1
 
 
+def _shown(text: str) -> str:
+    """``text`` as a message quotes it: a line break, a tab or a character beyond ASCII
+    (a full-width digit looks like a digit) escaped."""
+    return text.encode("unicode_escape").decode("ascii")
+
+
+_NUMBER = re.compile(r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?")
+
+
 def finite(text: str | None) -> float | None:
-    """``text`` as a finite float, else ``None``."""
-    if text is None or not re.fullmatch(r"\s*[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?\s*", text):
+    """``text`` as a finite float, read as urdfdom reads a number (spaces before it,
+    nothing after it, ASCII digits), else ``None``."""
+    if text is None or not _NUMBER.fullmatch(text.lstrip(" ")):
         return None
     value = float(text)
     return value if math.isfinite(value) else None
+
+
+def vector_parts(text: str) -> list:
+    """The parts of a vector attribute as urdfdom cuts it: at spaces only (a tab or a
+    line break leaves a part that is no number)."""
+    return [part for part in text.split(" ") if part]
