@@ -155,6 +155,21 @@ def test_a_campaign_too_large_or_too_long(tmp_path):
         "not inf s"]
 
 
+def test_a_campaign_time_step_too_short_to_be_meant_is_refused(tmp_path):
+    """A campaign's ``time_step: 1e-12 s`` was accepted and its job crawled for good."""
+    campaign = write(tmp_path, "ts.campaign.yaml", f"""
+        missions: [{REPO / 'missions' / 'panda_reach.mission'}]
+        samples: 1
+        settings:
+          time_step: [5ms, 1e-12 s]
+    """)
+    done = cli("sweep", "--serial", "-o", tmp_path / "out.parquet", campaign)
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    assert (f"{campaign}:4:20: error[wrong-value]: 'time_step' must be at least 10us, "
+            "not 1e-12 s") in done.stderr
+    assert not (tmp_path / "out.parquet").exists()
+
+
 def test_a_time_step_too_short_to_be_meant_is_refused(tmp_path):
     """A controller period of 1e-12 s passed ``check`` and made ``run`` crawl forever."""
     world = write(tmp_path, "w.yaml", "models:\n  - include: panda/panda_on_table.yaml\n"

@@ -13,6 +13,7 @@ from pathlib import Path
 from ..diagnostics import DiagnosticError, SourceFile, Span, did_you_mean, sort_key
 from ..sources import not_a_file
 from ..world.description import to_seconds
+from ..world.processors import SHORTEST
 from ..world.yaml_source import YamlList, YamlMap, parse_yaml
 from .spec import SETTINGS, BodyMove, CampaignSpec, MissionEntry, Normal, PhysicsNoise, \
     PostureNoise, Uniform, VariantEntry, Where
@@ -239,6 +240,9 @@ class _Reader:
                            "e.g. '5ms'")
             elif not _finite(seconds):
                 self.error("wrong-value", "'time_step' must be finite", span, "e.g. '5ms'")
+            elif seconds < SHORTEST:
+                self.error("wrong-value", f"'time_step' must be at least {SHORTEST * 1e6:g}us, "
+                           f"not {value}", span, "a time step that short is a typo (5ms, 250us)")
             return seconds
         if key == "hierarchy" and value not in HIERARCHIES:
             self.error("unknown-hierarchy", f"unknown hierarchy '{value}'", span,
