@@ -100,10 +100,17 @@ HOVER = {"textDocument": {"uri": (REPO / "missions" / "pickup.mission").as_uri()
     (json.dumps({"jsonrpc": "2.0", "method": 5}).encode(), None),
     (json.dumps({"jsonrpc": "1.0", "method": "initialized", "params": {}}).encode(), None),
     (json.dumps({"jsonrpc": "1.0", "id": 104, "result": None}).encode(), None),
+    (json.dumps({"jsonrpc": "2.0", "id": 103, "method": "initialized",
+                 "params": {}}).encode(), 103),
+    (json.dumps({"jsonrpc": "2.0", "id": 102, "method": "$/cancelRequest",
+                 "params": {"id": 5}}).encode(), 102),
+    (json.dumps({"jsonrpc": "2.0", "id": "s", "method": "$/setTrace",
+                 "params": {"value": "off"}}).encode(), "s"),
 ], ids=["empty array", "array", "number", "string", "null", "method not a string",
         "version 1.0", "no version", "id an object", "id a boolean",
         "notification with a method not a string", "notification of version 1.0",
-        "response of version 1.0"])
+        "response of version 1.0", "initialized with an id", "cancelRequest with an id",
+        "setTrace with an id"])
 def test_a_message_that_is_not_json_rpc_2_gets_an_invalid_request_error(
         frames, body, answered_id):
     frames.send_bytes(body)

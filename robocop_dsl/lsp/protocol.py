@@ -52,6 +52,15 @@ def _reasons(error: BaseException) -> list[str]:
     return [reason for item in inner for reason in _reasons(item)]
 
 
+def _notification_with_id(message: dict) -> bool:
+    """Whether ``message`` names a notification of the protocol (but ``exit``, honoured
+    however it comes) and carries an id, as a request would: it must be answered, and
+    the server has no answer to give."""
+    method = message.get("method")
+    return "id" in message and method != types.EXIT \
+        and types.METHOD_TO_TYPES.get(method, (None, True))[1] is None
+
+
 class MissionProtocol(LanguageServerProtocol):
     """pygls's language server protocol; a malformed message gets an error reply."""
 
@@ -65,6 +74,11 @@ class MissionProtocol(LanguageServerProtocol):
         if reason is not None:
             self._refuse(envelope.answer_id(message),
                          JsonRpcInvalidRequest(f"invalid message: {reason}"))
+            return
+        if _notification_with_id(message):
+            self._refuse(message["id"], JsonRpcInvalidRequest(
+                f"{message['method']} is a notification: it is sent without an id, and "
+                "gets no reply"))
             return
         structured = self._structured(message)
         if structured is None:
