@@ -124,11 +124,14 @@ def test_spaces_in_vectors_aligned_types_and_comment_rows_are_kept():
 
 def test_a_vector_that_opens_its_first_row_on_a_new_line_keeps_its_rows_and_comments():
     """Rows that start on the line after '[': each keeps its line and its comment
-    (they used to shift up one row, two comments ending on one line)."""
+    (they used to shift up one row, two comments ending on one line), one level deeper
+    than the line that opens the vector, and a ']' that begins its own line stays there,
+    under that line (the rows went under the '[' and the ']' to the last row)."""
     text = "let v = [   # joints\n    1, 2,   # left\n    3, 4]   # right\nlet w = 1\n"
-    assert formatted(text) == ("let v = [       # joints\n"
-                               "         1, 2,  # left\n"
-                               "         3, 4]  # right\n"
-                               "let w = 1\n")
-    assert formatted("let v = [\n    1, 2,\n    3]\n") == \
-        "let v = [\n         1, 2,\n         3]\n"
+    assert formatted(text) == text
+    closed = "let gains = [\n    1, 2,\n    3, 4\n]\nlet w = 1\n"
+    assert formatted(closed) == closed
+    assert formatted("let v = [\n  1, 2,\n  3\n  ] rad\n") == "let v = [\n    1, 2,\n    3\n] rad\n"
+    nested = ("state s {\n    enter {\n        t.target = [\n            1, 2\n"
+              "        ] rad\n    }\n    when elapsed > 1 s -> done\n}\nfinal done\n")
+    assert formatted(nested) == nested

@@ -69,9 +69,10 @@ def _vector(vector: ast.Vector) -> str:
     separators = vector_separators(source, (span.line, span.column),
                                    (span.end_line, span.end_column)) \
         if source is not None and span.line > 0 else None
-    if separators is None or len(separators) != len(elements):
+    if separators is None or len(separators) != len(elements) + 1:
         return "[" + ", ".join(elements) + "]" + _unit(vector.unit)
-    return "[" + "".join(map(str.__add__, separators, elements)) + "]" + _unit(vector.unit)
+    return "[" + "".join(map(str.__add__, separators, elements)) + separators[-1] + "]" \
+        + _unit(vector.unit)
 
 
 def _element(element: float | ast.NameElement) -> str:

@@ -79,8 +79,9 @@ def vector_separators(source: list[str], start: tuple[int, int], end: tuple[int,
     """What goes before each element of a vector written from ``start`` to ``end``
     (1-based line and column, end exclusive) to keep its author's layout: the spaces
     after ``[`` and after each comma (one at least), or :data:`ROW_BREAK` (after a
-    comma but for the first) where the element is on a later line. ``None`` when the
-    vector is written on one line with single spaces."""
+    comma but for the first) where the element is on a later line; then what goes
+    before its ``]``: :data:`ROW_BREAK` where the author began a line with it, else
+    nothing. ``None`` when the vector is written on one line with single spaces."""
     rows = [source[start[0] - 1][start[1] - 1:end[1] - 1]] if start[0] == end[0] else \
         [source[start[0] - 1][start[1] - 1:]] + source[start[0]:end[0] - 1] \
         + [source[end[0] - 1][:end[1] - 1]]
@@ -98,8 +99,10 @@ def vector_separators(source: list[str], start: tuple[int, int], end: tuple[int,
                 separators.append("," + ROW_BREAK)
             else:
                 separators.append("," + (spaces or " "))
+    closing = ROW_BREAK if len(rows) > 1 and not code_of(rows[-1]).split("]")[0].strip() \
+        else ""
     plain = separators[:1] == [""] and all(s == ", " for s in separators[1:])
-    return None if plain else separators
+    return None if plain and not closing else separators + [closing]
 
 
 def with_author_blanks(lines: list[Line], source: list[str]) -> list[Line]:
@@ -194,7 +197,7 @@ def rows_split(lines: list[Line], source: list[str], indent: str) -> list[Line]:
         first, *rest = line.text.split(ROW_BREAK)
         rows = [first]
         for row in rest:
-            rows.append(" " * _continuation(rows, indent) + row.lstrip())
+            rows.append(" " * _continuation(rows, indent, row.lstrip()) + row.lstrip())
         out.append(dataclasses.replace(line, text=first))
         origin = line.origin
         for text in rows[1:]:
@@ -204,17 +207,24 @@ def rows_split(lines: list[Line], source: list[str], indent: str) -> list[Line]:
     return out
 
 
-def _continuation(rows: list[str], indent: str) -> int:
-    """The column where the row after ``rows`` starts."""
-    opened: list[int] = []
-    for row in rows:
-        for index, char in enumerate(code_of(row)):
+def _continuation(rows: list[str], indent: str, row: str) -> int:
+    """The column where ``row``, the row after ``rows``, starts: under the first thing
+    inside the innermost bracket still open; when that bracket ends its line, one
+    ``indent`` deeper than that line, and a ``row`` that closes it under that line."""
+    opened: list[tuple[int, int]] = []
+    for number, text in enumerate(rows):
+        for index, char in enumerate(code_of(text)):
             if char in "([":
-                opened.append(index)
+                opened.append((number, index))
             elif char in ")]" and opened:
                 opened.pop()
     if opened:
-        return opened[-1] + 1
+        number, column = opened[-1]
+        text = rows[number]
+        if column < len(code_of(text).rstrip()) - 1:
+            return column + 1
+        start = len(text) - len(text.lstrip())
+        return start if row[:1] in ")]" else start + len(indent)
     first = rows[0]
     start = len(first) - len(first.lstrip())
     return start + (len("when ") if first.lstrip().startswith("when ") else len(indent))
