@@ -69,3 +69,14 @@ def test_client_process_id_is_accepted():
                           "--clientProcessId=42"], capture_output=True, text=True,
                          stdin=subprocess.DEVNULL)
     assert run.returncode == 0, run.stderr
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="needs node")
+def test_the_extension_finds_the_server_in_its_order():
+    """editors/vscode/test/server.test.js, with node's test runner: the settings (a
+    program's path, its name on PATH, ``~/`` and ``${workspaceFolder}``), the Python
+    extension's interpreter, PATH, what is said when nothing is found, ``--stdio``."""
+    done = subprocess.run(["node", "--test", "test/server.test.js"], cwd=EXTENSION,
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "# fail 0" in done.stdout and "# pass 8" in done.stdout

@@ -50,6 +50,7 @@ async function start(context) {
     serverPath: settings.get("serverPath", ""),
     pythonPath: settings.get("pythonPath", ""),
     interpreter: await pythonInterpreter(),
+    workspace: vscode.workspace.workspaceFolders?.[0]?.uri.fsPath ?? "",
   });
   if (!found.command) {
     await notFound(found);

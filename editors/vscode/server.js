@@ -5,9 +5,11 @@
 // In order: the setting robocopMission.serverPath (the robocop-mission program), the
 // setting robocopMission.pythonPath (an interpreter that has robocop_dsl), the Python
 // extension's interpreter for the workspace when robocop_dsl is installed in it, then
-// robocop-mission on PATH. When none fits, `tried` says what was looked at and
+// robocop-mission on PATH. A setting may give a program's name (looked up on PATH), a
+// path from the home folder (~/) or from the workspace (${workspaceFolder}). When none fits, `tried` says what was looked at and
 // `install` the command that installs the server.
 const fs = require("fs");
+const os = require("os");
 const path = require("path");
 const { spawnSync } = require("child_process");
 
@@ -49,20 +51,31 @@ function quoted(file) {
   return /\s/.test(file) ? `"${file}"` : file;
 }
 
+// The program a setting names: `~/` is the home folder, `${workspaceFolder}` the
+// workspace's folder, and a bare name (`python3`, `robocop-mission`) is looked up on
+// PATH; null when that names no program.
+function resolved(setting, workspace, env, platform) {
+  let file = setting.replace(/^~(?=$|[\\/])/, os.homedir());
+  if (workspace) file = file.split("${workspaceFolder}").join(workspace);
+  if (!/[\\/]/.test(file)) return onPath(file, env, platform);
+  return executable(file) ? file : null;
+}
+
 // The server to start: { command, args, tried } (command null when none was found, with
 // `install`, the command to run, and `problem` when a setting names a missing file).
-function findServer({ serverPath = "", pythonPath = "", interpreter = "", env = process.env,
-  platform = process.platform, probe = hasServer } = {}) {
+function findServer({ serverPath = "", pythonPath = "", interpreter = "", workspace = "",
+  env = process.env, platform = process.platform, probe = hasServer } = {}) {
   const tried = [];
-  for (const [setting, file, args] of [["serverPath", serverPath, PROGRAM],
+  for (const [setting, given, args] of [["serverPath", serverPath, PROGRAM],
     ["pythonPath", pythonPath, MODULE]]) {
-    if (!file) {
+    if (!given) {
       tried.push(`the setting robocopMission.${setting} (not set)`);
       continue;
     }
-    if (!executable(file)) {
-      tried.push(`the setting robocopMission.${setting}: ${file} (no such program)`);
-      return { command: null, args: [], tried, problem: `robocopMission.${setting} names ${file}, which is not a program` };
+    const file = resolved(given, workspace, env, platform);
+    if (!file) {
+      tried.push(`the setting robocopMission.${setting}: ${given} (no such program)`);
+      return { command: null, args: [], tried, problem: `robocopMission.${setting} names ${given}, which is not a program` };
     }
     return { command: file, args, tried };
   }

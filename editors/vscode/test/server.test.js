@@ -58,6 +58,26 @@ test("a setting naming a missing program is reported, not passed over", () => {
   assert.match(found.problem, /robocopMission.serverPath names .*nope, which is not a program/);
 });
 
+test("a setting may name a program on PATH, from the home folder or the workspace", () => {
+  assert.deepStrictEqual(commandLine(findServer({ serverPath: "robocop-mission", env: withProgram })),
+    [program, "lsp", "--stdio"]);
+  assert.deepStrictEqual(commandLine(findServer({ pythonPath: "python", env: withProgram })),
+    [python, "-m", "robocop_dsl", "lsp", "--stdio"]);
+  const inWorkspace = findServer({ serverPath: "${workspaceFolder}/robocop-mission",
+    workspace: folder, env: empty });
+  assert.strictEqual(inWorkspace.command, program);
+  const home = process.env.HOME;
+  process.env.HOME = folder;
+  try {
+    assert.strictEqual(findServer({ serverPath: "~/robocop-mission", env: empty }).command,
+      program);
+  } finally {
+    process.env.HOME = home;
+  }
+  const absent = findServer({ serverPath: "robocop-mission", env: empty });
+  assert.match(absent.problem, /robocopMission.serverPath names robocop-mission, which is not a program/);
+});
+
 test("the client appends --stdio for a stdio executable, as commandLine does", () => {
   const client = fs.readFileSync(
     require.resolve("vscode-languageclient/lib/node/main.js"), "utf8");
