@@ -84,6 +84,24 @@ def test_an_unclosed_block_while_typing_is_reported_at_its_brace(lines, braces):
     assert {"grasp", "lift", "release", "done", "failed"} <= set(states)
 
 
+@pytest.mark.parametrize("lines, expected", [
+    (["state typing {", "    when elapsed > ", ""],
+     ["66:14 missing '}' for this '{'", "67:20 unexpected end of line"]),
+    (["state typing {", "    enter { enable ", ""],
+     ["66:14 missing '}' for this '{'", "67:11 missing '}' for this '{'",
+      "67:20 unexpected end of line"]),
+])
+def test_an_unclosed_block_with_a_line_half_typed_does_not_cascade(lines, expected):
+    """A block left open on a statement still being typed: its '{' and the unfinished
+    line are reported, nothing else (the closing put after the unfinished line was read
+    as its end, and the states after it went into the block)."""
+    result = parse_mission(_typed("state grasp", *lines), "t.mission")
+    assert [f"{d.span.line}:{d.span.column} {d.message}"
+            for d in result.diagnostics] == expected
+    states = [s.name.text for s in result.mission.states]
+    assert {"grasp", "lift", "release", "done", "failed"} <= set(states)
+
+
 def test_an_unclosed_block_before_declarations_does_not_cascade():
     """Blocks left open above top-level declarations: the two braces are reported,
     first, and the declarations after them still parse."""

@@ -24,8 +24,8 @@ from ..diagnostics import Diagnostic, SourceFile, Span
 from ..resources import GRAMMAR_DIR, private_cache_file
 from ..sources import MISSION, editor_lines, read_source
 from . import ast
-from .syntax_errors import (RESERVED, UNCLOSED, Recovery, closed_by_layout, code_of,
-                            layout_closings)
+from .syntax_errors import (RESERVED, UNCLOSED, Recovery, closed_by_layout, closing_places,
+                            code_of, layout_closings)
 from .transformer import MissionBuilder
 
 # Syntax-tree depth beyond which a statement is refused (the rest of the file is read):
@@ -177,7 +177,7 @@ def _closed_by_layout(text: str, source: SourceFile, mission: ast.Mission,
         return mission, diagnostics
     patched = closed_by_layout(text, closings)
     second, found, still_open = _parse(patched, SourceFile(source.path, patched))
-    ends = {c.at: len(code_of(source.line(c.at)).rstrip()) for c in closings}
+    ends = {at: len(code_of(source.line(at)).rstrip()) for at in closing_places(text, closings)}
     on_added = any(d.span and d.span.column > ends.get(d.span.line, d.span.column)
                    for d in found)
     if still_open or on_added or len(found) > len(diagnostics) - unclosed:

@@ -492,12 +492,26 @@ def layout_closings(text: str) -> list[Closing]:
     return found
 
 
-def closed_by_layout(text: str, closings: list[Closing]) -> str:
-    """``text`` with a ``}`` after the code of the line where each closing goes."""
+def closing_places(text: str, closings: list[Closing]) -> dict[int, int]:
+    """The lines where the ``}`` of ``closings`` go, and how many on each: the first line
+    without code after the block's last line, before the line that shows it over, when
+    there is one (after an unfinished statement, the ``}`` would be read as its end);
+    else after the code of the block's last line."""
     lines = text.split("\n")
-    for at in sorted({c.at for c in closings}):
+    places: dict[int, int] = {}
+    for closing in closings:
+        last = closing.before - 1 if closing.before else len(lines)
+        line = next((n for n in range(closing.at + 1, last + 1)
+                     if not code_of(lines[n - 1]).strip()), closing.at)
+        places[line] = places.get(line, 0) + 1
+    return places
+
+
+def closed_by_layout(text: str, closings: list[Closing]) -> str:
+    """``text`` with the ``}`` of each closing where :func:`closing_places` puts it."""
+    lines = text.split("\n")
+    for at, count in closing_places(text, closings).items():
         line = lines[at - 1]
         end = len(code_of(line).rstrip())
-        count = sum(1 for c in closings if c.at == at)
         lines[at - 1] = line[:end] + "}" * count + line[end:]
     return "\n".join(lines)
