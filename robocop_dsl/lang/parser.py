@@ -170,20 +170,24 @@ def _closed_by_layout(text: str, source: SourceFile, mission: ast.Mission,
                       diagnostics: list[Diagnostic], unclosed: int):
     """The parse of ``text`` with each block that its indentation shows to be over
     closed where it ends (the statements after it stay out of it), when that parse
-    leaves no block open, finds nothing wrong with the added ``}`` and has no more
-    errors than the first, else the first."""
+    leaves no block open, has no more errors than the first and finds nothing wrong
+    with an added ``}`` but on a line whose statement the first found broken (a ``}``
+    after a half-typed statement: that line keeps the first parse's error), else the
+    first."""
     closings = layout_closings(text)
     if not closings:
         return mission, diagnostics
     patched = closed_by_layout(text, closings)
     second, found, still_open = _parse(patched, SourceFile(source.path, patched))
     ends = {at: len(code_of(source.line(at)).rstrip()) for at in closing_places(text, closings)}
-    on_added = any(d.span and d.span.column > ends.get(d.span.line, d.span.column)
-                   for d in found)
-    if still_open or on_added or len(found) > len(diagnostics) - unclosed:
+    on_added = {d.span.line for d in found
+                if d.span and d.span.column > ends.get(d.span.line, d.span.column)}
+    broken = {d.span.line: d for d in diagnostics if d.span and d.message != UNCLOSED}
+    if still_open or not on_added <= set(broken) or len(found) > len(diagnostics) - unclosed:
         return mission, diagnostics
     quoted = [dataclasses.replace(d, source_line=source.line(d.span.line)) if d.span else d
-              for d in found]
+              for d in found if not (d.span and d.span.line in on_added)]
+    quoted += [broken[line] for line in sorted(on_added)]
     return second, quoted + [source.error("missing-token", UNCLOSED,
                                           Span.point(c.line, c.column), c.hint)
                              for c in closings]
