@@ -31,17 +31,18 @@ class JointStates:
             if name in controlled:
                 continue
             if joint.shortname() == "JointModelMimic":
-                mimic = joint.extract()
-                mimics.append((name, world.joint(name).mimic, mimic.scaling, mimic.offset,
-                               joint.idx_q))
+                mimic, master = joint.extract(), world.joint(name).mimic
+                mimics.append((name, master, mimic.scaling, mimic.offset,
+                               model.joints[model.getJointId(master)].idx_q,
+                               model.joints[model.getJointId(master)].nq))
             elif joint.nv == 1 and joint.nq in (1, 2):
                 self.names.append(name)
                 self._others.append((joint.idx_q, joint.nq))
         self.names += [name for name, *_ in mimics]
         column = {name: index for index, name in enumerate(self.names)}
         self._commanded = len(controlled)
-        self._mimics = [(column.get(master), scaling, offset, idx_q)
-                        for _, master, scaling, offset, idx_q in mimics]
+        self._mimics = [(column.get(master), scaling, offset, idx_q, nq)
+                        for _, master, scaling, offset, idx_q, nq in mimics]
 
     def values(self, records: list) -> np.ndarray:
         """Per record (:class:`~robocop_dsl.runtime.CycleRecord`), the positions [rad or
@@ -56,11 +57,17 @@ class JointStates:
         if self._others or self._mimics:
             q = np.array([record.q for record in records])
             for column, (start, nq) in enumerate(self._others, commanded):
-                positions[:, column] = q[:, start] if nq == 1 else np.arctan2(
-                    q[:, start + 1], q[:, start])
-            for column, (master, scaling, offset, start) in enumerate(
+                positions[:, column] = _angle(q, start, nq)
+            for column, (master, scaling, offset, start, nq) in enumerate(
                     self._mimics, commanded + len(self._others)):
-                positions[:, column] = scaling * q[:, start] + offset
+                positions[:, column] = scaling * _angle(q, start, nq) + offset
                 if master is not None:
                     velocities[:, column] = scaling * velocities[:, master]
         return np.hstack([positions, velocities])
+
+
+def _angle(q: np.ndarray, start: int, nq: int) -> np.ndarray:
+    """The position [rad or m] of a one-dof joint in each row of ``q``, its coordinates
+    from ``start``: the coordinate itself, or a continuous joint's angle from its cosine
+    and sine."""
+    return q[:, start] if nq == 1 else np.arctan2(q[:, start + 1], q[:, start])

@@ -19,7 +19,10 @@ JOINT_TYPES = ("fixed", "revolute", "continuous", "prismatic", "floating", "plan
 _VECTORS = {"origin": ("xyz", "rpy"), "axis": ("xyz",)}
 _NUMBERS = {"limit": ("lower", "upper", "velocity", "effort"),
             "mimic": ("multiplier", "offset"), "mass": ("value",),
-            "inertia": ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+            "inertia": ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"),
+            "dynamics": ("damping", "friction"), "calibration": ("rising", "falling"),
+            "safety_controller": ("soft_lower_limit", "soft_upper_limit", "k_position",
+                                  "k_velocity")}
 _NOT_NEGATIVE = {("limit", "velocity"), ("limit", "effort"), ("mass", "value")}
 
 
@@ -118,7 +121,8 @@ class UrdfValues:
         if value is None:
             self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
                         f"must be a finite number, not '{_shown(text)}'",
-                        "URDF numbers are SI without a unit (m, rad, m/s, rad/s, N, kg)")
+                        "URDF numbers are SI without a unit (m, rad, m/s, rad/s, N, kg)",
+                        tag=element.tag)
         elif value < 0 and (element.tag, name) in _NOT_NEGATIVE:
             self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
                         f"is negative: {text}", "a velocity, effort or mass limit is >= 0")
@@ -129,26 +133,42 @@ class UrdfValues:
         if len(parts) != 3 or any(finite(p) is None for p in parts):
             self._error(line, f'{name}="{text}"', f"'{name}' of the <{element.tag}> of {what} "
                         f"must be three finite numbers, not '{_shown(text)}'",
-                        "for example xyz=\"0 0 0.1\" (m) or rpy=\"0 0 1.57\" (rad)")
+                        "for example xyz=\"0 0 0.1\" (m) or rpy=\"0 0 1.57\" (rad)",
+                        tag=element.tag)
 
-    def _error(self, line: int, needle: str, message: str, hint: str, skip: int = 0) -> None:
-        found_line, column = self._locate(line, needle, skip)
+    def _error(self, line: int, needle: str, message: str, hint: str, skip: int = 0,
+               tag: str | None = None) -> None:
+        found_line, column, length = self._locate(line, needle, skip, tag)
         self.diagnostics.append(self.source.error(
-            "urdf-error", message, Span.point(found_line, column, len(needle)), hint))
+            "urdf-error", message, Span.point(found_line, column, length), hint))
 
-    def _locate(self, line: int, needle: str, skip: int = 0) -> tuple[int, int]:
+    def _locate(self, line: int, needle: str, skip: int = 0,
+                tag: str | None = None) -> tuple[int, int, int]:
         """The first place at or after ``line`` where ``needle`` is written, the first
-        ``skip`` places passed over; for an attribute whose value the file writes
-        otherwise (``&#10;``), where the attribute begins."""
-        for wanted in dict.fromkeys((needle, needle.split('"')[0] + '"' * ('"' in needle))):
-            for number in range(max(line, 1), len(self.lines) + 1):
-                column = self.lines[number - 1].find(wanted)
-                while column >= 0:
-                    if not skip:
-                        return number, column + 1
-                    skip -= 1
-                    column = self.lines[number - 1].find(wanted, column + 1)
-        return line, 1
+        ``skip`` places passed over, and its length; for an attribute of a ``<tag>``
+        whose value the file writes otherwise (``&#10;``), where the attribute begins
+        in the first ``<tag>`` from ``line`` on."""
+        found = self._find(line, needle, skip)
+        if found is None and tag is not None:
+            opening = self._find(line, f"<{tag}")
+            attribute = needle.split('"')[0] + '"'
+            if opening is not None:
+                found = self._find(opening[0], attribute, column=opening[1])
+                needle = attribute
+        return (*found, len(needle)) if found else (line, 1, len(needle))
+
+    def _find(self, line: int, needle: str, skip: int = 0,
+              column: int = 1) -> tuple[int, int] | None:
+        """``(line, column)`` of the ``skip``-th place of ``needle`` from ``line`` and
+        ``column`` on (1-based), or ``None``."""
+        for number in range(max(line, 1), len(self.lines) + 1):
+            at = self.lines[number - 1].find(needle, column - 1 if number == line else 0)
+            while at >= 0:
+                if not skip:
+                    return number, at + 1
+                skip -= 1
+                at = self.lines[number - 1].find(needle, at + 1)
+        return None
 
 
 def _shown(text: str) -> str:
@@ -161,9 +181,9 @@ _NUMBER = re.compile(r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?")
 
 
 def finite(text: str | None) -> float | None:
-    """``text`` as a finite float, read as urdfdom reads a number (spaces before it,
+    """``text`` as a finite float, read as urdfdom reads a number (blanks before it,
     nothing after it, ASCII digits), else ``None``."""
-    if text is None or not _NUMBER.fullmatch(text.lstrip(" ")):
+    if text is None or not _NUMBER.fullmatch(text.lstrip(" \t\n\r\f\v")):
         return None
     value = float(text)
     return value if math.isfinite(value) else None
