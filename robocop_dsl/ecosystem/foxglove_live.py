@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ipaddress
 import socket
+import threading
 from collections import deque
 
 from ..diagnostics import RobocopError
@@ -113,25 +114,30 @@ class FoxgloveServer:
             reason = error.strerror or str(error)
             raise FoxgloveError(f"cannot serve Foxglove on {shown}:{port}: {reason}") from None
         self.url = f"ws://{_named(host)}:{self._relay.port}"
+        self._latched = {topic.name: None for topic in topics if topic.latched}
+        self._history = {topic.name: deque(maxlen=topic.history) for topic in topics
+                         if topic.history}
+        self._subscribers: dict = {topic.name: set() for topic in topics}
+        self._kept = threading.Lock()
+        """Held while a message is kept (before it is sent: a client that subscribes
+        meanwhile gets it, once or, rarely, twice, never not at all) and while a
+        subscriber is counted and what was kept is read; never while sending."""
         self._channels = {
             topic.name: foxglove.Channel(
                 topic.name, message_encoding="cdr", context=self._context,
                 schema=foxglove.Schema(name=topic.type, encoding="ros2msg",
                                        data=message_definition(topic.type).encode()))
             for topic in topics}
-        self._latched = {topic.name: None for topic in topics if topic.latched}
-        self._history = {topic.name: deque(maxlen=topic.history) for topic in topics
-                         if topic.history}
-        self._subscribers: dict = {topic.name: set() for topic in topics}
 
     def write(self, messages: list) -> None:
         """Send ``(topic, time [ns], bytes)`` messages to the subscribed clients."""
         for topic, time, data in messages:
+            with self._kept:
+                if topic in self._latched:
+                    self._latched[topic] = (int(time), data)
+                if topic in self._history:
+                    self._history[topic].append((int(time), data))
             self._channels[topic].log(data, log_time=int(time))
-            if topic in self._latched:
-                self._latched[topic] = (int(time), data)
-            if topic in self._history:
-                self._history[topic].append((int(time), data))
 
     def checkpoint(self) -> None:
         """Nothing to do: messages go out as they are written."""
@@ -146,14 +152,16 @@ class FoxgloveServer:
         """Called by the server: send a latched topic's last message, and to the first
         subscriber of a topic with a history its last messages."""
         topic = channel.topic
-        first = not self._subscribers[topic]
-        self._subscribers[topic].add(client.id)
-        last = self._latched.get(topic)
-        if last is not None:
-            self._channels[topic].log(last[1], log_time=last[0])
-        for time, data in list(self._history.get(topic, ())) if first else ():
+        with self._kept:
+            first = not self._subscribers[topic]
+            self._subscribers[topic].add(client.id)
+            last = self._latched.get(topic)
+            kept = ([] if last is None else [last]) + (
+                list(self._history.get(topic, ())) if first else [])
+        for time, data in kept:
             self._channels[topic].log(data, log_time=time)
 
     def on_unsubscribe(self, client, channel) -> None:
         """Called by the server when a client unsubscribes or leaves."""
-        self._subscribers[channel.topic].discard(client.id)
+        with self._kept:
+            self._subscribers[channel.topic].discard(client.id)
