@@ -132,6 +132,8 @@ def test_a_vector_that_opens_its_first_row_on_a_new_line_keeps_its_rows_and_comm
     closed = "let gains = [\n    1, 2,\n    3, 4\n]\nlet w = 1\n"
     assert formatted(closed) == closed
     assert formatted("let v = [\n  1, 2,\n  3\n  ] rad\n") == "let v = [\n    1, 2,\n    3\n] rad\n"
+    assert formatted("let v = [1, 2, 3\n]\n") == "let v = [1, 2, 3\n]\n"
+    assert formatted("let v = [1, 2,\n    3, 4\n    ]\n") == "let v = [1, 2,\n         3, 4\n]\n"
     nested = ("state s {\n    enter {\n        t.target = [\n            1, 2\n"
               "        ] rad\n    }\n    when elapsed > 1 s -> done\n}\nfinal done\n")
     assert formatted(nested) == nested

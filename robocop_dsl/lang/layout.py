@@ -4,7 +4,9 @@ The formatter prints :class:`Line` objects, each with the source line it prints.
 the source, the passes here keep: the blank lines the author put between statements
 (one at most); a block of one action written on one line (``enter { enable arms }``),
 when it fits in :data:`WIDTH` columns; the rows of a vector written over several lines,
-each row after the first under the first element; the column of ``=``, ``->`` or a
+each row after the first under the first element (one level deeper than the line that
+opens the vector, when its ``[`` ends that line) and a ``]`` the author began a line
+with under that line; the column of ``=``, ``->`` or a
 one-line block's ``{`` that adjacent statements share, and that of trailing comments
 (each at its own column, adjacent ones aligned); and every comment, where its reader
 expects it.
@@ -185,10 +187,9 @@ def _group(lines: list[Line], start: int, source: list[str], anchor: str) -> lis
 
 
 def rows_split(lines: list[Line], source: list[str], indent: str) -> list[Line]:
-    """Each row of a printed line on a line of its own: after the first, under the
-    first thing inside the innermost bracket still open, else under the condition of a
-    ``when`` or one ``indent`` deeper. Each row prints the next source line with code
-    (a comment line between two rows stays between them)."""
+    """Each row of a printed line on a line of its own, after the first where
+    :func:`_continuation` puts it. Each row prints the next source line with code (a
+    comment line between two rows stays between them)."""
     out: list[Line] = []
     for line in lines:
         if ROW_BREAK not in line.text:
@@ -208,9 +209,10 @@ def rows_split(lines: list[Line], source: list[str], indent: str) -> list[Line]:
 
 
 def _continuation(rows: list[str], indent: str, row: str) -> int:
-    """The column where ``row``, the row after ``rows``, starts: under the first thing
-    inside the innermost bracket still open; when that bracket ends its line, one
-    ``indent`` deeper than that line, and a ``row`` that closes it under that line."""
+    """The column where ``row``, the row after ``rows``, starts: a ``row`` that closes
+    the innermost bracket still open under the line that opened it; else under the
+    first thing inside that bracket, or, when the bracket ends its line, one ``indent``
+    deeper than that line."""
     opened: list[tuple[int, int]] = []
     for number, text in enumerate(rows):
         for index, char in enumerate(code_of(text)):
@@ -221,10 +223,10 @@ def _continuation(rows: list[str], indent: str, row: str) -> int:
     if opened:
         number, column = opened[-1]
         text = rows[number]
-        if column < len(code_of(text).rstrip()) - 1:
-            return column + 1
         start = len(text) - len(text.lstrip())
-        return start if row[:1] in ")]" else start + len(indent)
+        if row[:1] in ")]":
+            return start
+        return column + 1 if column < len(code_of(text).rstrip()) - 1 else start + len(indent)
     first = rows[0]
     start = len(first) - len(first.lstrip())
     return start + (len("when ") if first.lstrip().startswith("when ") else len(indent))

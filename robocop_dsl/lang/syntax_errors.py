@@ -446,9 +446,9 @@ def code_of(line: str) -> str:
 
 @dataclass(frozen=True)
 class Closing:
-    """A block the layout shows to be over: its ``{`` (1-based line and column), where
-    its ``}`` goes (after the code of line ``at``) and the line it goes before (``None``:
-    the end of the file)."""
+    """A block the layout shows to be over: its ``{`` (1-based line and column), its
+    last line ``at`` (its ``}`` goes after it: see :func:`closing_places`) and the line
+    it goes before (``None``: the end of the file)."""
 
     line: int
     column: int
