@@ -212,7 +212,8 @@ def _continuation(rows: list[str], indent: str, row: str) -> int:
     """The column where ``row``, the row after ``rows``, starts: a ``row`` that closes
     the innermost bracket still open under the line that opened it; else under the
     first thing inside that bracket, or, when the bracket ends its line, one ``indent``
-    deeper than that line."""
+    deeper than that line; with no bracket open, under the condition of a ``when``, or
+    one ``indent`` deeper than the first row."""
     opened: list[tuple[int, int]] = []
     for number, text in enumerate(rows):
         for index, char in enumerate(code_of(text)):

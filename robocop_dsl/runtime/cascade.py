@@ -210,8 +210,10 @@ class Remote:
 
     def enabled_tasks(self) -> list:
         """``(name, status)`` of every task enabled in the other controllers, as of
-        their last cycle."""
-        return [(name, status) for owner, link in self._links.items() if owner != self.local
+        their last cycle (:data:`PENDING` for those of a controller that has not yet
+        applied every action sent to it)."""
+        return [(name, self.status(name)) for owner, link in self._links.items()
+                if owner != self.local
                 for name, status in link.status.tasks.items() if status.enabled]
 
 

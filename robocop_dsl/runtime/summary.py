@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from ..compile import spec as s
 from ..compile import variables as v
 from ..control.exceptions import UnknownName
+from .cascade import PENDING
 from .cascade import TaskStatus as RemoteStatus
 from .clearance import Clearance
 from .records import Observer
@@ -295,7 +296,11 @@ class SummaryWatch(Observer):
     def _error_text(self, task) -> str:
         if task is None:
             return "not in this controller"
+        if task is PENDING:
+            return "its controller has not applied the last actions yet"
         if isinstance(task, RemoteStatus):
+            if not task.enabled:
+                return "disabled"
             state = "" if task.interpolated else "interpolator running, "
             return f"{state}error {task.error:.3g}"
         if not task.enabled:
