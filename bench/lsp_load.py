@@ -6,8 +6,8 @@ process per measure).
   its diagnostics, the semantic tokens' time after them, and the server's peak resident
   memory (sampled every 20 ms from the open to the tokens); beside them, in this
   process, the CPU time of lark's LALR parser alone on the same text (the mission
-  grammar and its line-break post-lexer, no positions kept, no syntax tree built): the
-  floor under the server's parse;
+  grammar and its line-break post-lexer, lark's own tree without positions, not the
+  project's syntax tree): the floor under the server's parse;
 - ``--edits`` one-character edits of missions/pickup.mission (a comment typed at its
   end), sent back to back: the time from the last edit to the diagnostics of its
   version, and how many times diagnostics were published in all;
@@ -117,8 +117,8 @@ async def open_large(size: int) -> dict:
 
 
 def lark_alone(text: str) -> float:
-    """CPU seconds of lark's LALR parser on ``text``, without positions or a syntax
-    tree."""
+    """CPU seconds of lark's LALR parser on ``text``: lark's own tree, without positions
+    (the project's syntax tree is not built)."""
     from lark import Lark
 
     parser = Lark((GRAMMAR_DIR / "mission.lark").read_text(encoding="utf-8"), parser="lalr",

@@ -104,7 +104,7 @@ def test_a_damaged_or_missing_log_is_a_one_line_error(logged, tmp_path, capsys, 
 
 @pytest.mark.parametrize("command", ["export", "plot"])
 @pytest.mark.parametrize("damage, message", [
-    ("reversed", "timeseries.parquet: time goes back at cycle 1: 0.005 s after 0.01 s"),
+    ("reversed", "timeseries.parquet: time does not rise at cycle 1: 0.005 s after 0.01 s"),
     ("no state", "timeseries.parquet: rows without a state"),
 ])
 def test_rows_out_of_order_or_without_a_state_are_refused(logged, tmp_path, capsys,

@@ -154,8 +154,6 @@ def test_a_success_lists_the_tasks_reached():
     assert "fired at" not in done.stdout
 
 
-
-
 def test_a_cascade_lists_the_tasks_of_every_controller():
     """The cascaded pickup ends with the arms' posture task (the state machine's
     controller) and the head's gaze (a controller of its own) enabled: both are listed,
@@ -168,6 +166,8 @@ def test_a_cascade_lists_the_tasks_of_every_controller():
     assert set(rows) == {"arms", "watch"}
     assert "gaze" in rows["watch"] and "kinect2_rgb_optical_frame" in rows["watch"]
     assert re.search(r"[\d.]+ deg", rows["watch"]) and rows["watch"].rstrip().endswith("yes")
+
+
 @pytest.mark.parametrize("value, unit, text", [
     (0.0042, "m", "4.2 mm"), (2.5, "m", "2.5 m"), (math.radians(3), "rad", "3 deg"),
     (15.0, "s", "15 s"), (float("nan"), "m", "n/a"), (3.0, "", "3")])

@@ -6,7 +6,8 @@
 // setting robocopMission.pythonPath (an interpreter that has robocop_dsl), the Python
 // extension's interpreter for the workspace when robocop_dsl is installed in it, then
 // robocop-mission on PATH. A setting may give a program's name (looked up on PATH), a
-// path from the home folder (~/) or from the workspace (${workspaceFolder}). When none fits, `tried` says what was looked at and
+// path from the home folder (~/) or from the workspace (${workspaceFolder}, or a
+// relative path). When none fits, `tried` says what was looked at and
 // `install` the command that installs the server.
 const fs = require("fs");
 const os = require("os");
@@ -31,7 +32,7 @@ function executable(file) {
 // The full path of `name` in the folders of PATH, or null.
 function onPath(name, env = process.env, platform = process.platform) {
   const folders = (env.PATH || env.Path || "").split(path.delimiter).filter(Boolean);
-  const endings = platform === "win32" ? (env.PATHEXT || ".EXE;.CMD;.BAT").split(";") : [""];
+  const endings = platform === "win32" ? ["", ...(env.PATHEXT || ".EXE;.CMD;.BAT").split(";")] : [""];
   for (const folder of folders) {
     for (const ending of endings) {
       const file = path.join(folder, name + ending.toLowerCase());
@@ -58,6 +59,7 @@ function resolved(setting, workspace, env, platform) {
   let file = setting.replace(/^~(?=$|[\\/])/, os.homedir());
   if (workspace) file = file.split("${workspaceFolder}").join(workspace);
   if (!/[\\/]/.test(file)) return onPath(file, env, platform);
+  if (workspace && !path.isAbsolute(file)) file = path.join(workspace, file);
   return executable(file) ? file : null;
 }
 
@@ -75,7 +77,8 @@ function findServer({ serverPath = "", pythonPath = "", interpreter = "", worksp
     const file = resolved(given, workspace, env, platform);
     if (!file) {
       tried.push(`the setting robocopMission.${setting}: ${given} (no such program)`);
-      return { command: null, args: [], tried, problem: `robocopMission.${setting} names ${given}, which is not a program` };
+      const folder = !workspace && given.includes("${workspaceFolder}") ? " (no folder is open)" : "";
+      return { command: null, args: [], tried, problem: `robocopMission.${setting} names ${given}, which is not a program${folder}` };
     }
     return { command: file, args, tried };
   }

@@ -489,8 +489,8 @@ def _rising(file, table, last: float) -> float:
         row = back[0]
         where = (f"cycle {table.column('cycle')[row].as_py()}" if "cycle" in table.column_names
                  else f"row {row + 1}")
-        raise UnreadableLog(f"{file}: time goes back at {where}: {times[row]:g} s after "
-                            f"{times[row - 1] if row else last:g} s")
+        raise UnreadableLog(f"{file}: time does not rise at {where}: {times[row]:g} s "
+                            f"after {times[row - 1] if row else last:g} s")
     return float(times[-1]) if len(times) else last
 
 

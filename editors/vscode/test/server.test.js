@@ -74,6 +74,10 @@ test("a setting may name a program on PATH, from the home folder or the workspac
   } finally {
     process.env.HOME = home;
   }
+  assert.strictEqual(findServer({ serverPath: "./robocop-mission", workspace: folder,
+    env: empty }).command, program);
+  assert.match(findServer({ serverPath: "${workspaceFolder}/robocop-mission", env: empty }).problem,
+    /which is not a program \(no folder is open\)/);
   const absent = findServer({ serverPath: "robocop-mission", env: empty });
   assert.match(absent.problem, /robocopMission.serverPath names robocop-mission, which is not a program/);
 });
