@@ -92,6 +92,13 @@ def test_an_unclosed_block_while_typing_is_reported_at_its_brace(lines, braces):
       "67:20 unexpected end of line"]),
     (["state typing {", "    when elapsed > "],
      ["66:14 missing '}' for this '{'", "67:20 unexpected end of line"]),
+    (["state typing {", "    enter { enable arms, ", ""],
+     ["66:14 missing '}' for this '{'", "67:11 missing '}' for this '{'",
+      "67:26 unexpected end of line"]),
+    (["state typing {", "    when not ", ""],
+     ["66:14 missing '}' for this '{'", "67:14 unexpected end of line"]),
+    (["state typing {", "    when elapsed > 1 s and", ""],
+     ["66:14 missing '}' for this '{'", "67:27 unexpected end of line"]),
 ])
 def test_an_unclosed_block_with_a_line_half_typed_does_not_cascade(lines, expected):
     """A block left open on a statement still being typed: its '{' and the unfinished

@@ -34,6 +34,10 @@ from .transformer import MissionBuilder
 MAX_NESTING = 200
 _BREAKABLE_AFTER = ("COMMA", "LPAR", "LSQB")
 _OPERATORS = ("AND", "OR", "NOT")
+_STATEMENT_STARTS = frozenset(word.upper() for word in RESERVED if word != "parallel") \
+    | {"RBRACE"}
+"""Keywords that begin a statement or an action, and ``}``: a line that starts with one
+never goes on with the line before it, whatever that line ends with."""
 _PLACE = threading.local()
 """``lines``: how many lines come before the text this thread parses now."""
 
@@ -43,9 +47,10 @@ class StatementBreaks(PostLex):
     and give reserved words their keyword type wherever they appear.
 
     A line may break after ``and``, ``or`` and ``not``, and inside brackets after ``(``,
-    ``[`` or ``,``; a break before a line that starts with ``]`` or ``)`` never reaches
-    this (the grammar ignores it); any other newline ends the statement and forgets the
-    brackets, so a missing ``]`` does not swallow the following lines.
+    ``[`` or ``,``, unless the next line begins with a statement's keyword or ``}`` (the
+    line was left unfinished); a break before a line that starts with ``]`` or ``)`` never
+    reaches this (the grammar ignores it); any other newline ends the statement and
+    forgets the brackets, so a missing ``]`` does not swallow the following lines.
     """
 
     always_accept = ("_NL", "NAME")
@@ -53,6 +58,7 @@ class StatementBreaks(PostLex):
     def process(self, stream):
         brackets = 0
         last: Token | None = None
+        held: Token | None = None       # a line break after an operator or a comma
         lines_before = getattr(_PLACE, "lines", 0)
         for token in stream:
             if lines_before:
@@ -60,9 +66,14 @@ class StatementBreaks(PostLex):
                 token.end_line += lines_before
             if token.type in ("NAME", "UNIT") and token.value in RESERVED:
                 token = Token.new_borrow_pos(token.value.upper(), token.value, token)
+            if held is not None and token.type in _STATEMENT_STARTS:
+                yield held              # the line before was left unfinished
+                brackets, last = 0, held
+            held = None
             if token.type == "_NL":
                 if last is not None and (last.type in _OPERATORS or
                                          (brackets and last.type in _BREAKABLE_AFTER)):
+                    held = token
                     continue
                 brackets = 0
                 if last is not None and last.type == "_NL":
@@ -171,23 +182,28 @@ def _closed_by_layout(text: str, source: SourceFile, mission: ast.Mission,
     """The parse of ``text`` with each block that its indentation shows to be over
     closed where it ends (the statements after it stay out of it), when that parse
     leaves no block open, has no more errors than the first and finds nothing wrong
-    with an added ``}`` but on a line whose statement the first found broken (a ``}``
-    after a half-typed statement: that line keeps the first parse's error), else the
-    first."""
+    with an added ``}`` but where the block's last statement was found broken by the
+    first (a ``}`` after a half-typed statement: that statement keeps the first parse's
+    error), else the first."""
     closings = layout_closings(text)
     if not closings:
         return mission, diagnostics
-    patched = closed_by_layout(text, closings)
+    places = closing_places(text, closings)
+    patched = closed_by_layout(text, places)
     second, found, still_open = _parse(patched, SourceFile(source.path, patched))
-    ends = {at: len(code_of(source.line(at)).rstrip()) for at in closing_places(text, closings)}
+    ends = {at: len(code_of(source.line(at)).rstrip()) for at in places}
     on_added = {d.span.line for d in found
                 if d.span and d.span.column > ends.get(d.span.line, d.span.column)}
     broken = {d.span.line: d for d in diagnostics if d.span and d.message != UNCLOSED}
-    if still_open or not on_added <= set(broken) or len(found) > len(diagnostics) - unclosed:
+    kept = {line for added in on_added for line in [added] + [c.at for c in places[added]]
+            if line in broken}
+    if (still_open or any(not {added, *(c.at for c in places[added])} & kept
+                          for added in on_added)
+            or len(found) > len(diagnostics) - unclosed):
         return mission, diagnostics
     quoted = [dataclasses.replace(d, source_line=source.line(d.span.line)) if d.span else d
-              for d in found if not (d.span and d.span.line in on_added)]
-    quoted += [broken[line] for line in sorted(on_added)]
+              for d in found if not (d.span and d.span.line in on_added | kept)]
+    quoted += [broken[line] for line in sorted(kept)]
     return second, quoted + [source.error("missing-token", UNCLOSED,
                                           Span.point(c.line, c.column), c.hint)
                              for c in closings]

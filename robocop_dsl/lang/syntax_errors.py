@@ -64,6 +64,10 @@ _PARALLEL = re.compile(r"^\s*state\b.*:\s*parallel\b")
 _GENERIC_HINT_LIMIT = 8
 CONTINUED = re.compile(r"(?:[,(\[]|\band|\bor|\bnot)\s*$")
 """The end of a line whose statement goes on on the next line."""
+_NEW_STATEMENT = re.compile(r"\s*(mission|library|import|let|var|world|controller|task"
+                            r"|constraint|behavior|start|state|final|when|enter|exit)\b")
+"""The start of a line that begins a statement or a block: never the rest of the line
+before it, whatever that line ends with."""
 UNCLOSED = "missing '}' for this '{'"
 
 
@@ -467,7 +471,8 @@ def layout_closings(text: str) -> list[Closing]:
     no ``}`` before it: a line indented no deeper than the line that opened the block
     (a ``}`` less deep than it), or the end of the file. A line that continues the
     statement before it (after ``,``, ``(``, ``[``, ``and``, ``or``, ``not``) does not
-    count."""
+    count, but for one that begins a statement (the line before it was left half
+    typed)."""
     opened: list[tuple[int, int, int]] = []          # line, column, indentation
     found: list[Closing] = []
     last, continued = 0, False
@@ -476,7 +481,7 @@ def layout_closings(text: str) -> list[Closing]:
         if not code.strip():
             continue
         indent = len(line) - len(line.lstrip())
-        if not continued:
+        if not continued or _NEW_STATEMENT.match(code):
             closing = code.lstrip().startswith("}")
             while opened and (indent < opened[-1][2] or (indent == opened[-1][2]
                                                          and not closing)):
@@ -492,26 +497,26 @@ def layout_closings(text: str) -> list[Closing]:
     return found
 
 
-def closing_places(text: str, closings: list[Closing]) -> dict[int, int]:
-    """The lines where the ``}`` of ``closings`` go, and how many on each: the first line
-    without code after the block's last line, before the line that shows it over, when
-    there is one (after an unfinished statement, the ``}`` would be read as its end);
-    else after the code of the block's last line."""
+def closing_places(text: str, closings: list[Closing]) -> dict[int, list[Closing]]:
+    """The lines where the ``}`` of ``closings`` go, and the closings on each: the first
+    line without code after the block's last line, before the line that shows it over,
+    when there is one (after an unfinished statement, the ``}`` would be read as its
+    end); else after the code of the block's last line."""
     lines = text.split("\n")
-    places: dict[int, int] = {}
+    places: dict[int, list[Closing]] = {}
     for closing in closings:
         last = closing.before - 1 if closing.before else len(lines)
         line = next((n for n in range(closing.at + 1, last + 1)
                      if not code_of(lines[n - 1]).strip()), closing.at)
-        places[line] = places.get(line, 0) + 1
+        places.setdefault(line, []).append(closing)
     return places
 
 
-def closed_by_layout(text: str, closings: list[Closing]) -> str:
-    """``text`` with the ``}`` of each closing where :func:`closing_places` puts it."""
+def closed_by_layout(text: str, places: dict[int, list[Closing]]) -> str:
+    """``text`` with the ``}`` of each closing on its line (see :func:`closing_places`)."""
     lines = text.split("\n")
-    for at, count in closing_places(text, closings).items():
+    for at, closings in places.items():
         line = lines[at - 1]
         end = len(code_of(line).rstrip())
-        lines[at - 1] = line[:end] + "}" * count + line[end:]
+        lines[at - 1] = line[:end] + "}" * len(closings) + line[end:]
     return "\n".join(lines)
