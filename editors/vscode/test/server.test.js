@@ -82,9 +82,18 @@ test("a setting may name a program on PATH, from the home folder or the workspac
   assert.match(absent.problem, /robocopMission.serverPath names robocop-mission, which is not a program/);
 });
 
-test("the client appends --stdio for a stdio executable, as commandLine does", () => {
-  const client = fs.readFileSync(
-    require.resolve("vscode-languageclient/lib/node/main.js"), "utf8");
+// vscode-languageclient's code, once `npm ci` has installed it.
+function clientCode() {
+  try {
+    return require.resolve("vscode-languageclient/lib/node/main.js");
+  } catch {
+    return null;
+  }
+}
+
+test("the client appends --stdio for a stdio executable, as commandLine does",
+  { skip: clientCode() ? false : "vscode-languageclient is not installed (npm ci)" }, () => {
+  const client = fs.readFileSync(clientCode(), "utf8");
   const executable = client.slice(client.indexOf("Executable.is(json) && json.command"));
   assert.match(executable.slice(0, 600), /transport === TransportKind\.stdio\) \{\s*args\.push\('--stdio'\)/);
 });
