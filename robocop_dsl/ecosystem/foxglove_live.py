@@ -54,15 +54,20 @@ def parse_address(text: str, allow_remote: bool = False) -> tuple:
     return host, int(port)
 
 
+def _in_url(host: str) -> str:
+    """``host`` as a URL writes it: an IPv6 address in brackets."""
+    return f"[{host}]" if ":" in host else host
+
+
 def _named(host: str) -> str:
     """``host`` as a client names it in a URL: this machine's name for an address that
-    stands for all of its own (``0.0.0.0``, ``::``), an IPv6 address in brackets."""
+    stands for all of its own (``0.0.0.0``, ``::``)."""
     try:
         if ipaddress.ip_address(host).is_unspecified:
-            return socket.gethostname()
+            return _in_url(socket.gethostname())
     except ValueError:
         pass
-    return f"[{host}]" if ":" in host else host
+    return _in_url(host)
 
 
 def _loopback(host: str) -> bool:
@@ -106,7 +111,7 @@ class FoxgloveServer:
         except RuntimeError as error:
             reason = str(error).removeprefix("FoxgloveError: ")
             raise FoxgloveError(f"cannot serve Foxglove: {reason}") from None
-        shown = f"[{host}]" if ":" in host else host
+        shown = _in_url(host)
         try:
             self._relay = SubprotocolRelay(host, port, ("127.0.0.1", self._server.port))
         except OSError as error:

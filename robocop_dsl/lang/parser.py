@@ -24,8 +24,8 @@ from ..diagnostics import Diagnostic, SourceFile, Span
 from ..resources import GRAMMAR_DIR, private_cache_file
 from ..sources import MISSION, editor_lines, read_source
 from . import ast
-from .syntax_errors import (RESERVED, UNCLOSED, Recovery, closed_by_layout, closing_places,
-                            code_of, layout_closings)
+from .syntax_errors import (LINE_STARTS, RESERVED, UNCLOSED, Recovery, closed_by_layout,
+                            closing_places, code_of, layout_closings)
 from .transformer import MissionBuilder
 
 # Syntax-tree depth beyond which a statement is refused (the rest of the file is read):
@@ -34,10 +34,8 @@ from .transformer import MissionBuilder
 MAX_NESTING = 200
 _BREAKABLE_AFTER = ("COMMA", "LPAR", "LSQB")
 _OPERATORS = ("AND", "OR", "NOT")
-_STATEMENT_STARTS = frozenset(word.upper() for word in RESERVED if word != "parallel") \
-    | {"RBRACE"}
-"""Keywords that begin a statement or an action, and ``}``: a line that starts with one
-never goes on with the line before it, whatever that line ends with."""
+_STATEMENT_STARTS = frozenset(word.upper() for word in LINE_STARTS) | {"RBRACE"}
+"""The token types of :data:`~.syntax_errors.LINE_STARTS` and ``}``."""
 _PLACE = threading.local()
 """``lines``: how many lines come before the text this thread parses now."""
 

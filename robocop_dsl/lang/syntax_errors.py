@@ -64,10 +64,10 @@ _PARALLEL = re.compile(r"^\s*state\b.*:\s*parallel\b")
 _GENERIC_HINT_LIMIT = 8
 CONTINUED = re.compile(r"(?:[,(\[]|\band|\bor|\bnot)\s*$")
 """The end of a line whose statement goes on on the next line."""
-_NEW_STATEMENT = re.compile(r"\s*(mission|library|import|let|var|world|controller|task"
-                            r"|constraint|behavior|start|state|final|when|enter|exit)\b")
-"""The start of a line that begins a statement or a block: never the rest of the line
-before it, whatever that line ends with."""
+LINE_STARTS = RESERVED - {"parallel"}
+"""The keywords that begin a statement or an action: a line that starts with one (or
+with ``}``) never goes on with the line before it, whatever that line ends with."""
+_NEW_STATEMENT = re.compile(rf"\s*(?:(?:{'|'.join(sorted(LINE_STARTS))})\b|}})")
 UNCLOSED = "missing '}' for this '{'"
 
 

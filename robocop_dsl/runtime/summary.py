@@ -298,14 +298,11 @@ class SummaryWatch(Observer):
             return "not in this controller"
         if task is PENDING:
             return "its controller has not applied the last actions yet"
-        if isinstance(task, RemoteStatus):
-            if not task.enabled:
-                return "disabled"
-            state = "" if task.interpolated else "interpolator running, "
-            return f"{state}error {task.error:.3g}"
         if not task.enabled:
             return "disabled"
-        state = "" if task.interpolator().finished else "interpolator running, "
+        state = "" if self._finished(task) else "interpolator running, "
+        if isinstance(task, RemoteStatus):
+            return f"{state}error {task.error:.3g}"
         return state + "error " + self._status(task.name, task.kind, task).error_text()
 
     def _task(self, name: str):
