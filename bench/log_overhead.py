@@ -9,7 +9,13 @@ naming the protocol ``foxglove.websocket.v1``, and subscribes to every topic. Tw
 
 - real time (``--realtime``): per mode, the overruns of each run (cycles that started
   more than a period late), the median over the runs of each run's cycle-time p99 and
-  max [ms] and, with ``--foxglove``, of the messages the client received;
+  max [ms] and, with ``--foxglove``, of the messages the client received; then, per
+  run, the time the hypervisor stole from the processor the loop ran on (the ``steal``
+  column of ``/proc/stat``, sampled every 5 ms with the processor the loop last ran on)
+  and the overruns left when those whose stall overlaps a stolen sample are taken out
+  (on a virtual machine, the stalls the run itself causes are among those), and how
+  long the loop's thread waited, ready to run, for a processor that other threads or
+  processes of the machine held (its run-queue delay);
 - headless: per mode, each run's speed-up (mission time / wall time from the first
   cycle to the end of the run, the log's closing included, its setup before the first
   cycle not) and their median, and the median's ratio to the run without a log; then
@@ -27,10 +33,12 @@ import asyncio
 import contextlib
 import io
 import json
+import os
 import socket
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -42,20 +50,36 @@ REPO = Path(__file__).resolve().parent.parent
 def child(argv: list) -> None:
     """In the child process: run the command line, print what the runs measured."""
     from robocop_dsl.cli.main import main
+    from robocop_dsl.runtime.records import Observer
     from robocop_dsl.runtime.runner import Runner
 
     timed: dict = {}
+    late: list = []
     run, start = Runner.run, Runner.start
 
+    class Overruns(Observer):
+        """Keeps each overrun's time (the monotonic clock, as the sampler's) and delay
+        [s]."""
+
+        wants_tasks = False
+
+        def on_event(self, event):
+            if event.kind == "overrun":
+                late.append((time.monotonic(), event.data["late"]))
+
     def timed_start(self):
+        self.add_observer(Overruns())
+        timed["period"] = self.time_step
         start(self)
         timed.setdefault("start", time.perf_counter())
         timed.setdefault("cpu", time.thread_time())
+        timed.setdefault("waited", waited_for_processor())
 
     def timed_run(self, *args, **kwargs):
         result = run(self, *args, **kwargs)
         timed.update(wall=time.perf_counter() - timed["start"],
-                     cpu=time.thread_time() - timed["cpu"], result=result)
+                     cpu=time.thread_time() - timed["cpu"], result=result,
+                     waited=waited_for_processor() - timed["waited"])
         return result
 
     Runner.start, Runner.run = timed_start, timed_run
@@ -65,8 +89,19 @@ def child(argv: list) -> None:
     times = np.asarray(result.cycle_times) * 1e3
     print(json.dumps({"code": code, "outcome": result.outcome, "overruns": result.overruns,
                       "p99": float(np.percentile(times, 99)), "max": float(times.max()),
+                      "late": late, "period": timed["period"], "waited": timed["waited"],
                       "speed-up": result.mission_time / timed["wall"],
                       "loop speed-up": result.mission_time / timed["cpu"]}))
+
+
+def waited_for_processor() -> float:
+    """How long [s] the calling thread has waited, ready to run, for a processor (its
+    run-queue delay: the processor held by other threads or processes of this machine,
+    not by the hypervisor); 0 where ``/proc/thread-self/schedstat`` is missing."""
+    try:
+        return int(Path("/proc/thread-self/schedstat").read_text().split()[1]) * 1e-9
+    except (OSError, IndexError, ValueError):
+        return 0.0
 
 
 def free_port() -> int:
@@ -104,6 +139,59 @@ def watch(port: str) -> None:
     print(asyncio.run(received()))
 
 
+STEAL_SAMPLE = 0.005
+"""[s] Between two samples of the stolen time."""
+
+
+def stolen() -> dict:
+    """Per processor, the time [s] the hypervisor has stolen from it (``/proc/stat``);
+    empty where that is not known."""
+    try:
+        lines = Path("/proc/stat").read_text().splitlines()
+    except OSError:
+        return {}
+    tick = os.sysconf("SC_CLK_TCK")
+    return {int(fields[0][3:]): int(fields[8]) / tick for fields in map(str.split, lines)
+            if fields and fields[0][3:].isdigit() and len(fields) > 8}
+
+
+def processor(pid: int) -> int | None:
+    """The processor the process's main thread last ran on."""
+    try:
+        return int(Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[36])
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def sample_steal(process: subprocess.Popen) -> tuple:
+    """Until ``process`` ends: ``(time, stolen from the loop's processor since the last
+    sample [s])`` every :data:`STEAL_SAMPLE`, by a thread of this process; returns the
+    samples and the thread."""
+    samples: list = []
+
+    def sample():
+        before = stolen()
+        while process.poll() is None:
+            time.sleep(STEAL_SAMPLE)
+            now, on = stolen(), processor(process.pid)
+            samples.append((time.monotonic(), now.get(on, 0.0) - before.get(on, 0.0)))
+            before = now
+
+    sampler = threading.Thread(target=sample, daemon=True)
+    sampler.start()
+    return samples, sampler
+
+
+def clear_of_steal(late: list, samples: list, period: float) -> int:
+    """How many overruns (``(time, delay)``, noticed at ``time`` [s]) stalled while no time
+    was stolen from the loop's processor: the stall runs from a period before the
+    late cycle was due to when it was noticed, widened by a sample each side."""
+    stolen_at = [at for at, taken in samples if taken > 0]
+    return sum(not any(noticed - delay - period - STEAL_SAMPLE <= at
+                       <= noticed + 2 * STEAL_SAMPLE for at in stolen_at)
+               for noticed, delay in late)
+
+
 def measure(mission: str, flags: list) -> dict:
     port = str(free_port())
     client = (subprocess.Popen([sys.executable, __file__, "--client", port],
@@ -111,14 +199,20 @@ def measure(mission: str, flags: list) -> dict:
               if "--foxglove" in flags else None)
     with tempfile.TemporaryDirectory() as folder:
         flags = [flag.replace("LOG", folder).replace("PORT", port) for flag in flags]
-        done = subprocess.run([sys.executable, __file__, "--child", mission, *flags],
-                              cwd=REPO, capture_output=True, text=True)
-    lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
+        child_process = subprocess.Popen([sys.executable, __file__, "--child", mission,
+                                          *flags], cwd=REPO, stdout=subprocess.PIPE,
+                                         stderr=subprocess.PIPE, text=True)
+        samples, sampler = sample_steal(child_process)
+        out, err = child_process.communicate()
+        sampler.join()
+    lines = [line for line in out.splitlines() if line.startswith("{")]
     if not lines:
         if client is not None:
             client.kill()
-        raise SystemExit(f"run {flags} failed:\n{done.stderr[-2000:]}")
+        raise SystemExit(f"run {flags} failed:\n{err[-2000:]}")
     result = json.loads(lines[-1])
+    result["stolen"] = sum(taken for _, taken in samples)
+    result["clear"] = clear_of_steal(result["late"], samples, result["period"])
     if client is not None:
         result["received"] = int(client.communicate()[0])
     return result
@@ -149,6 +243,16 @@ def realtime_table(mission: str, rounds: int) -> None:
                     if "received" in results[0] else "")
         print(f"{mode:<18}{overruns:<22}{np.median([r['p99'] for r in results]):>9.3f}"
               f"{np.median([r['max'] for r in results]):>9.3f}{received}")
+    print("\nthe same runs: time stolen from the loop's processor, time the loop waited "
+          "for a processor held by others [ms], and the overruns whose stall overlaps no "
+          "stolen sample (each run, then their sum)")
+    print(f"{'mode':<18}{'stolen ms':<32}{'waited ms':<32}{'clear of steal':<20}{'sum':>5}")
+    for mode, results in runs.items():
+        stolen_ms = " ".join(f"{result['stolen'] * 1e3:.0f}" for result in results)
+        waited_ms = " ".join(f"{result['waited'] * 1e3:.0f}" for result in results)
+        clear = [result["clear"] for result in results]
+        print(f"{mode:<18}{stolen_ms:<32}{waited_ms:<32}{' '.join(map(str, clear)):<20}"
+              f"{sum(clear):>5}")
 
 
 def headless_table(mission: str, rounds: int) -> None:
