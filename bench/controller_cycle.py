@@ -23,7 +23,9 @@ calling thread's CPU time per cycle (``time.thread_time_ns``). A ratio ``X/this`
 median over the turns of the ratio of their medians (above 1: this is faster).
 
 The first cycles: ``--episodes`` fresh starts of every implementation (built untimed,
-then its first 40 cycles timed, in turns), per cycle the median over the episodes;
+this controller prepared at the start as a run prepares it before its first cycle:
+:meth:`~robocop_dsl.control.Controller.prepare`; then its first 40 cycles timed, in
+turns), per cycle the median over the episodes;
 printed: the first cycle, the median of cycles 1-39, the ratio ``Pink-daqp/this`` of
 those medians, of the first cycle, and the lowest per-cycle one over cycles 1-39 (below
 1: a cycle where Pink is faster).
@@ -131,6 +133,7 @@ def ours(case, world, q0, hierarchy, controller_class=Controller, collisions=Fal
         control.add_task("body_pose", body, body, target=target, gain=GAIN)
     control.add_task("joint_position", "posture", case["group"], priority=1,
                      weight=POSTURE_WEIGHT, gain=GAIN, target=q0[control.state.q_indices])
+    control.prepare(q0)
     return lambda q: control.compute(q).velocity
 
 
