@@ -13,9 +13,10 @@ naming the protocol ``foxglove.websocket.v1``, and subscribes to every topic. Tw
   run, the time the hypervisor stole from the processor the loop ran on (the ``steal``
   column of ``/proc/stat``, sampled every 5 ms with the processor the loop last ran on)
   and the overruns left when those whose stall overlaps a stolen sample are taken out
-  (on a virtual machine, the stalls the run itself causes are among those), and how
-  long the loop's thread waited, ready to run, for a processor that other threads or
-  processes of the machine held (its run-queue delay);
+  (on a virtual machine, the stalls the run itself causes are among those), how many
+  times the loop's thread was taken off its processor while it could run, and how long
+  it waited, ready to run, for a processor that other threads or processes of the
+  machine held (its run-queue delay);
 - headless: per mode, each run's speed-up (mission time / wall time from the first
   cycle to the end of the run, the log's closing included, its setup before the first
   cycle not) and their median, and the median's ratio to the run without a log; then
@@ -74,12 +75,14 @@ def child(argv: list) -> None:
         timed.setdefault("start", time.perf_counter())
         timed.setdefault("cpu", time.thread_time())
         timed.setdefault("waited", waited_for_processor())
+        timed.setdefault("preempted", preemptions())
 
     def timed_run(self, *args, **kwargs):
         result = run(self, *args, **kwargs)
         timed.update(wall=time.perf_counter() - timed["start"],
                      cpu=time.thread_time() - timed["cpu"], result=result,
-                     waited=waited_for_processor() - timed["waited"])
+                     waited=waited_for_processor() - timed["waited"],
+                     preempted=preemptions() - timed["preempted"])
         return result
 
     Runner.start, Runner.run = timed_start, timed_run
@@ -90,6 +93,7 @@ def child(argv: list) -> None:
     print(json.dumps({"code": code, "outcome": result.outcome, "overruns": result.overruns,
                       "p99": float(np.percentile(times, 99)), "max": float(times.max()),
                       "late": late, "period": timed["period"], "waited": timed["waited"],
+                      "preempted": timed["preempted"],
                       "speed-up": result.mission_time / timed["wall"],
                       "loop speed-up": result.mission_time / timed["cpu"]}))
 
@@ -102,6 +106,17 @@ def waited_for_processor() -> float:
         return int(Path("/proc/thread-self/schedstat").read_text().split()[1]) * 1e-9
     except (OSError, IndexError, ValueError):
         return 0.0
+
+
+def preemptions() -> int:
+    """How many times the calling thread was taken off its processor while it could run
+    (Linux's ``nonvoluntary_ctxt_switches``: a thread that woke up, or the end of its
+    time slice); 0 where ``/proc/thread-self/status`` is missing."""
+    try:
+        status = Path("/proc/thread-self/status").read_text()
+        return int(status.split("nonvoluntary_ctxt_switches:")[1].split()[0])
+    except (OSError, IndexError, ValueError):
+        return 0
 
 
 def free_port() -> int:
@@ -243,16 +258,18 @@ def realtime_table(mission: str, rounds: int) -> None:
                     if "received" in results[0] else "")
         print(f"{mode:<18}{overruns:<22}{np.median([r['p99'] for r in results]):>9.3f}"
               f"{np.median([r['max'] for r in results]):>9.3f}{received}")
-    print("\nthe same runs: time stolen from the loop's processor, time the loop waited "
-          "for a processor held by others [ms], and the overruns whose stall overlaps no "
-          "stolen sample (each run, then their sum)")
-    print(f"{'mode':<18}{'stolen ms':<32}{'waited ms':<32}{'clear of steal':<20}{'sum':>5}")
+    print("\nthe same runs: time stolen from the loop's processor [ms], times the loop was "
+          "taken off its processor while it could run, time it waited for a processor "
+          "held by others [ms], and the overruns whose stall overlaps no stolen sample "
+          "(each run, then their sum)")
+    print(f"{'mode':<18}{'stolen ms':<26}{'preempted':<32}{'waited ms':<26}"
+          f"{'clear of steal':<20}{'sum':>5}")
     for mode, results in runs.items():
-        stolen_ms = " ".join(f"{result['stolen'] * 1e3:.0f}" for result in results)
-        waited_ms = " ".join(f"{result['waited'] * 1e3:.0f}" for result in results)
+        columns = [" ".join(f"{result[key] * scale:.0f}" for result in results)
+                   for key, scale in (("stolen", 1e3), ("preempted", 1), ("waited", 1e3))]
         clear = [result["clear"] for result in results]
-        print(f"{mode:<18}{stolen_ms:<32}{waited_ms:<32}{' '.join(map(str, clear)):<20}"
-              f"{sum(clear):>5}")
+        print(f"{mode:<18}{columns[0]:<26}{columns[1]:<32}{columns[2]:<26}"
+              f"{' '.join(map(str, clear)):<20}{sum(clear):>5}")
 
 
 def headless_table(mission: str, rounds: int) -> None:

@@ -7,6 +7,7 @@ import json
 import pickle
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -69,6 +70,27 @@ def test_a_real_time_writer_works_while_the_loop_sleeps():
     writer.loop_sleeps(time.perf_counter() + 60.0)
     writer.close()
     assert steps == [0]
+
+
+def woken(thread_id: int) -> int:
+    """How many times a thread of this process has been woken (it gave up its processor
+    to wait), as Linux counts them."""
+    status = Path(f"/proc/self/task/{thread_id}/status").read_text()
+    return int(status.split("voluntary_ctxt_switches:")[1].split()[0])
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="Linux's thread counts")
+def test_a_real_time_writer_with_nothing_to_write_is_not_woken_by_the_loop():
+    """Each cycle, the loop says when it sleeps; a writer with nothing to write must not
+    wake for it (each wake-up takes the loop's processor or the interpreter from it)."""
+    writer = WriterThread("test", lambda batch: None, 4, DROP)
+    thread_id = writer._thread.native_id
+    before = woken(thread_id)
+    for _ in range(500):
+        writer.loop_sleeps(time.perf_counter() + 1e-3)
+        time.sleep(1e-3)
+    assert woken(thread_id) - before < 50
+    writer.close()
 
 
 def test_a_headless_writer_writes_its_backlog_while_the_loop_waits():

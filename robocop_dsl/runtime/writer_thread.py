@@ -53,7 +53,9 @@ class WriterThread:
         self._policy = policy
         self._waiting: deque = deque()
         self._busy = False
-        self._ready = threading.Condition()
+        lock = threading.Lock()
+        self._ready = threading.Condition(lock)
+        self._window = threading.Condition(lock)
         self._closed = False
         self.failure: BaseException | None = None
         self._window_end = 0.0
@@ -85,16 +87,16 @@ class WriterThread:
         """Called by the loop at the end of a cycle: it sleeps until ``until``
         [s, ``time.perf_counter()``] (``None``: it does not sleep)."""
         if self._policy == DROP and until is not None:
-            with self._ready:
+            with self._window:      # wakes only a step waiting for the window
                 self._window_end = until - MARGIN
-                self._ready.notify_all()
+                self._window.notify_all()
 
     def turn(self) -> None:
         """Called by ``work`` before each of its steps: a :data:`DROP` writer waits until
         the loop sleeps (at once once the run ended)."""
         if self._policy == DROP:
-            with self._ready:
-                self._ready.wait_for(
+            with self._window:
+                self._window.wait_for(
                     lambda: self._closed or time.perf_counter() < self._window_end)
 
     def close(self) -> None:
@@ -102,6 +104,7 @@ class WriterThread:
         with self._ready:
             self._closed = True
             self._ready.notify_all()
+            self._window.notify_all()
         if self._thread is not None:
             self._thread.join()
         if self.failure is not None:
