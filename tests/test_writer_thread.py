@@ -93,6 +93,24 @@ def test_a_real_time_writer_with_nothing_to_write_is_not_woken_by_the_loop():
     writer.close()
 
 
+def test_a_batch_handed_to_a_real_time_writer_during_a_cycle_waits_for_the_loops_sleep():
+    """The loop hands batches over in the middle of a cycle: waking the writer then
+    would take the processor from the loop; it is woken when the loop goes to sleep."""
+    written = []
+    writer = WriterThread("test", written.append, 4, DROP)
+    wakes = []
+    notify = writer._ready.notify_all
+    writer._ready.notify_all = lambda: (wakes.append(len(writer._waiting)), notify())
+    writer.loop_sleeps(time.perf_counter() - 1.0)   # a late loop: its cycle goes on
+    writer.put(0)
+    writer.put(1)
+    assert wakes == []
+    writer.loop_sleeps(time.perf_counter() + 60.0)
+    assert wakes == [2]
+    writer.close()
+    assert written == [0, 1]
+
+
 def test_a_headless_writer_writes_its_backlog_while_the_loop_waits():
     written, loop_waited = [], []
     writer = WriterThread("test", written.append, 3, BATCH)

@@ -6,7 +6,10 @@ writer's policy:
   its cycles: each cycle the loop ends opens a window until shortly before the next one
   starts (:meth:`WriterThread.loop_sleeps`; none while the loop is late), and the work
   waits for an open window before each of its steps (:meth:`WriterThread.turn`), so
-  that the loop never waits for the interpreter longer than a step. A full backlog
+  that the loop never waits for the interpreter longer than a step. The thread is
+  woken only then, never in the middle of a cycle (a thread woken on the loop's
+  processor takes it from the loop): a batch handed over during a cycle waits for the
+  loop's sleep (once the loop has said when it sleeps). A full backlog
   drops its oldest batch (the caller reports it), but for what the writer's ``keep``
   keeps of it (a run's events), which goes at the head of the next batch.
 - :data:`BATCH` (a headless run): the loop never sleeps, and only one thread runs
@@ -78,7 +81,8 @@ class WriterThread:
                 kept = self._keep(dropped) if self._keep is not None else []
                 if kept:
                     self._waiting[0] = kept + self._waiting[0]
-            self._ready.notify_all()
+            if self._policy != DROP or not self._window_end:
+                self._ready.notify_all()    # else when the loop sleeps (loop_sleeps)
             if self._policy == BATCH and len(self._waiting) >= self._backlog:
                 self._ready.wait_for(lambda: not self._waiting and not self._busy)
         return dropped
@@ -87,9 +91,11 @@ class WriterThread:
         """Called by the loop at the end of a cycle: it sleeps until ``until``
         [s, ``time.perf_counter()``] (``None``: it does not sleep)."""
         if self._policy == DROP and until is not None:
-            with self._window:      # wakes only a step waiting for the window
+            with self._window:      # wakes the thread only when it has work
                 self._window_end = until - MARGIN
                 self._window.notify_all()
+                if self._waiting and not self._busy:
+                    self._ready.notify_all()
 
     def turn(self) -> None:
         """Called by ``work`` before each of its steps: a :data:`DROP` writer waits until
