@@ -125,16 +125,28 @@ def controller(case, world, q0, hierarchy, controller_class=Controller):
 
 
 def ours(case, world, q0, hierarchy, controller_class=Controller, collisions=False):
+    """The step of this controller on the case, towards :func:`targets`, prepared at
+    ``q0``."""
+    return built(case, world, q0, hierarchy, targets(world, case["bodies"], q0),
+                 collisions, controller_class, prepared_at=q0)[0]
+
+
+def built(case, world, q0, hierarchy, goals, avoid, controller_class=Controller,
+          prepared_at=None):
+    """The problem of the case with body_pose targets ``goals``, with or without the
+    collision constraints, prepared for a first cycle at ``prepared_at`` if given
+    (:meth:`~robocop_dsl.control.Controller.prepare`, as a run does before its first
+    cycle); returns the step and the collision constraints."""
     control = controller(case, world, q0, hierarchy, controller_class)
-    if collisions:
-        add_collisions(control)
+    constraints = add_collisions(control) if avoid else []
     control.set_auto_enable(True)
-    for body, target in zip(case["bodies"], targets(world, case["bodies"], q0)):
-        control.add_task("body_pose", body, body, target=target, gain=GAIN)
+    for body, goal in zip(case["bodies"], goals):
+        control.add_task("body_pose", body, body, target=goal, gain=GAIN)
     control.add_task("joint_position", "posture", case["group"], priority=1,
                      weight=POSTURE_WEIGHT, gain=GAIN, target=q0[control.state.q_indices])
-    control.prepare(q0)
-    return lambda q: control.compute(q).velocity
+    if prepared_at is not None:
+        control.prepare(prepared_at)
+    return (lambda q: control.compute(q).velocity), constraints
 
 
 def floor(case, world, q0):
@@ -355,20 +367,8 @@ def add_collisions(control) -> list:
 
 def with_collisions(case, world, q0, goals, avoid, controller_class=Controller,
                     prepared_at=None):
-    """The strict problem of ``ours`` with body_pose targets ``goals``, with or without
-    the collision constraints, prepared for a first cycle at ``prepared_at`` if given
-    (:meth:`~robocop_dsl.control.Controller.prepare`, as a run does before its first
-    cycle); returns the step and the collision constraints."""
-    control = controller(case, world, q0, "strict", controller_class)
-    constraints = add_collisions(control) if avoid else []
-    control.set_auto_enable(True)
-    for body, goal in zip(case["bodies"], goals):
-        control.add_task("body_pose", body, body, target=goal, gain=GAIN)
-    control.add_task("joint_position", "posture", case["group"], priority=1,
-                     weight=POSTURE_WEIGHT, gain=GAIN, target=q0[control.state.q_indices])
-    if prepared_at is not None:
-        control.prepare(prepared_at)
-    return (lambda q: control.compute(q).velocity), constraints
+    """The strict problem of :func:`built`, with or without the collision constraints."""
+    return built(case, world, q0, "strict", goals, avoid, controller_class, prepared_at)
 
 
 def first_cycle(case, world, q0, q, goals, prepared: bool, starts: int = FIRST_STARTS) -> float:
